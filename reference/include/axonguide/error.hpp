@@ -1,0 +1,36 @@
+#pragma once
+// The two ways a run can refuse, with the exit codes of SPEC §4:
+//   InputError (exit 2): the scene or a flag is wrong; the message names the key path,
+//                        the value and what is allowed.
+//   RunError   (exit 3): the input is valid but the run cannot proceed (packing too
+//                        dense, memory estimate above the machine's, no usable GPU).
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace axg {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitCheckFailed = 1;
+inline constexpr int kExitBadInput = 2;
+inline constexpr int kExitCannotRun = 3;
+
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class RunError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Bytes of physical memory on this machine (0 when unknown).
+std::uint64_t physical_memory_bytes();
+
+// Throws RunError when `bytes` exceeds the machine's memory; `what` names the work.
+void check_memory_estimate(std::uint64_t bytes, const std::string& what);
+
+std::string human_bytes(double bytes);
+
+}  // namespace axg

@@ -1,0 +1,5 @@
+#include "commands.hpp"
+#include "axonguide/error.hpp"
+namespace axg::app {
+int cmd_bench(const BenchArgs&) { throw InputError("bench: not yet"); }
+}

@@ -1,0 +1,30 @@
+#pragma once
+// The subcommands of `axonguide` (SPEC §6). Each returns the process exit code.
+#include <string>
+#include <vector>
+
+namespace axg::app {
+
+struct RunArgs {
+  std::string scene_path;  // empty: the built-in default
+  std::string out_dir = "out";
+  int threads = 0;
+  std::string backend = "reference";
+  std::string seed;        // empty: the scene's
+  bool quiet = false;
+};
+
+int cmd_run(const RunArgs& args);
+int cmd_scene_default();
+int cmd_scene_check(const std::string& path);
+
+struct BenchArgs {
+  std::string what = "all";
+  std::string backend = "reference";
+  bool json = false;
+  bool quick = false;
+  int threads = 0;
+};
+int cmd_bench(const BenchArgs& args);
+
+}  // namespace axg::app

@@ -1,0 +1,49 @@
+#pragma once
+// One growth step of one axon (SPEC §3.2, stages 3 and 4): move the tip by l*h and test
+// contact, then bounds. A pure function of its arguments; the driver writes the result
+// into the axon's own slot.
+#include <cstdint>
+
+#include "contact.hpp"
+#include "hd.hpp"
+#include "types.hpp"
+#include "vec3.hpp"
+
+namespace axg::core {
+
+struct GrowthParams {
+  double step_length;     // l, LU per step
+  double contact_radius;  // r_s + r_c, LU
+  double contact_radius2; // its square, LU^2
+  double bounds_radius;   // LU: ball radius, or half-edge when bounds_box
+  bool bounds_box;
+  ContactRule rule;
+};
+
+struct AxonStep {
+  Vec3 tip;               // new tip (the contact point for a connection)
+  double advanced;        // LU grown this step
+  AxonStatus status;
+  std::uint32_t target;   // kNoNeuron unless connected
+};
+
+AXG_HDI bool outside_bounds(Vec3 p, const GrowthParams& g) {
+  if (g.bounds_box) {
+    const double r = g.bounds_radius;
+    return p.x > r || p.x < -r || p.y > r || p.y < -r || p.z > r || p.z < -r;
+  }
+  return norm2(p) > g.bounds_radius * g.bounds_radius;
+}
+
+AXG_HDI AxonStep grow_axon(std::uint32_t self, Vec3 tip, Vec3 heading, const GrowthParams& g,
+                           const CellGridView& somas) {
+  const Vec3 s = g.step_length * heading;
+  const Contact c = find_contact(self, tip, s, g.contact_radius, g.contact_radius2, g.rule, somas);
+  if (c.target != kNoNeuron)
+    return {tip + c.t * s, c.t * g.step_length, AxonStatus::kConnected, c.target};
+  const Vec3 next = tip + s;
+  if (outside_bounds(next, g)) return {next, g.step_length, AxonStatus::kExited, kNoNeuron};
+  return {next, g.step_length, AxonStatus::kGrowing, kNoNeuron};
+}
+
+}  // namespace axg::core

@@ -1,0 +1,33 @@
+#pragma once
+// A backend's simulation state and its per-step pipeline. The run (run.hpp) places the
+// neurons with shared host code, hands them to an Engine, calls step() until no axon
+// grows or the steps run out, then reads the results back. The reference and the CUDA
+// accelerator implement this interface with the same core/ functions.
+#include <memory>
+#include <vector>
+
+#include "axonguide/placement.hpp"
+#include "axonguide/scene.hpp"
+#include "axonguide/state.hpp"
+
+namespace axg {
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  // Runs every stage of step `step` (1-based) and returns the counts after it.
+  virtual StepStats step(std::uint32_t step, PhaseTimes& times) = 0;
+  // Current tips of all axons (for output.paths); only called when paths are recorded.
+  virtual void tips(std::vector<core::Vec3>& out) = 0;
+  // Final per-neuron state; axons still growing are reported as max_steps.
+  virtual void finish(NeuronState& out) = 0;
+  // Bytes of memory this engine holds (host or device), for the summary.
+  virtual std::size_t bytes() const = 0;
+};
+
+// Bytes per neuron the reference engine needs (for memory estimates before allocation).
+std::size_t reference_bytes_per_neuron();
+
+std::unique_ptr<Engine> make_reference_engine(const Scene& scene, const Placement& placement);
+
+}  // namespace axg

@@ -1,0 +1,41 @@
+#pragma once
+// The connection graph (SPEC §3.6): CSR built by a stable counting sort by source,
+// level-synchronous BFS from given sources, and connected components of the undirected
+// view. Outputs are deterministic by definition: level (-1 unreached), parent = lowest id
+// at the previous level (-1 for sources and unreached), component = lowest vertex id.
+#include <cstdint>
+#include <vector>
+
+namespace axg {
+
+struct Csr {
+  std::vector<std::uint32_t> offsets;  // vertices + 1
+  std::vector<std::uint32_t> targets;  // neighbours, ascending within a vertex
+  std::size_t vertices() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t edges() const { return targets.size(); }
+};
+
+// CSR of the edges (source[k] -> target[k]) by a stable counting sort on the source:
+// neighbours keep the input order, so sort edges by target first for ascending lists.
+Csr csr_from_edges(std::size_t vertices, const std::vector<std::uint32_t>& source,
+                   const std::vector<std::uint32_t>& target);
+// The same edges reversed (in-neighbours, ascending).
+Csr transpose(const Csr& g);
+// Both directions, each list ascending, duplicates removed.
+Csr undirected(const Csr& g);
+
+struct BfsResult {
+  std::vector<std::int32_t> level;   // -1 unreached
+  std::vector<std::int64_t> parent;  // -1 for sources and unreached
+  std::int32_t max_level = -1;
+  std::size_t reached = 0;
+};
+
+// Level-synchronous BFS over the out-edges of g from every source at once (level 0).
+// `in` is transpose(g), used for the parent rule.
+BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sources);
+
+// Component label of every vertex of the undirected graph: its lowest vertex id.
+std::vector<std::uint32_t> components(const Csr& undirected_graph);
+
+}  // namespace axg

@@ -1,0 +1,34 @@
+#pragma once
+// Scene-derived parameters of the growth stage, shared by every backend so that both
+// hand identical numbers to core::grow_axon.
+#include "axonguide/cell_grid.hpp"
+#include "axonguide/core/growth.hpp"
+#include "axonguide/scene.hpp"
+
+namespace axg {
+
+inline core::GrowthParams growth_params(const Scene& s) {
+  core::GrowthParams g{};
+  g.step_length = s.axons.step_length;
+  g.contact_radius = s.neurons.soma_radius + s.axons.contact_distance;
+  g.contact_radius2 = g.contact_radius * g.contact_radius;
+  g.bounds_radius = s.bounds_radius();
+  g.bounds_box = s.neurons.shape == RegionShape::kBox;
+  g.rule = s.axons.contact;
+  return g;
+}
+
+// The tip starts on the soma surface: x = p + r_s h.
+inline core::Vec3 axon_start(core::Vec3 soma, core::Vec3 heading, const Scene& s) {
+  return soma + s.neurons.soma_radius * heading;
+}
+
+// The soma grid covers the region; cells are at least one contact diameter wide and
+// about one per neuron, so a step visits a handful of cells.
+inline GridGeometry soma_grid_geometry(const Scene& s) {
+  const double contact = s.neurons.soma_radius + s.axons.contact_distance;
+  return cube_geometry(s.neurons.radius + contact, 2.0 * contact,
+                       static_cast<double>(s.neurons.count));
+}
+
+}  // namespace axg

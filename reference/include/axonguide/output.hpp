@@ -1,0 +1,40 @@
+#pragma once
+// Output files (SPEC §4). Every file is written to a temporary name in the output
+// directory and renamed when complete, so a crash never leaves a half file that looks
+// whole; manifest.json is written last and holds the SHA-256 of every other file.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace axg {
+
+// A buffered file that becomes visible under its name only on commit().
+class AtomicFile {
+ public:
+  AtomicFile(const std::filesystem::path& dir, const std::string& name);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  void write(std::string_view text);
+  // Flushes, syncs and renames into place; throws RunError on any I/O failure.
+  void commit();
+  std::FILE* handle() { return file_; }
+  const std::filesystem::path& final_path() const { return final_; }
+
+ private:
+  std::filesystem::path final_, temp_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+// Hex SHA-256 of a file's bytes (OpenSSL EVP).
+std::string sha256_file(const std::filesystem::path& path);
+std::string sha256_hex(std::string_view bytes);
+
+// Creates the directory if needed; InputError when the path exists and is not a
+// directory or cannot be created.
+void prepare_output_dir(const std::filesystem::path& dir);
+
+}  // namespace axg

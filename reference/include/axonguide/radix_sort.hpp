@@ -1,0 +1,20 @@
+#pragma once
+// Stable LSD radix sort of (key, value) pairs by key, parallel with TBB. The result of a
+// stable sort is unique, so it does not depend on how the work is split among threads:
+// this is how every grid in the reference is built (hash, stable sort by cell, then cell
+// start/end), mirroring CUB's radix sort in the accelerator.
+#include <cstdint>
+#include <vector>
+
+namespace axg {
+
+// Sorts keys ascending, carrying values along; equal keys keep their input order.
+// max_key bounds the keys (it sets the number of 11-bit passes).
+void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& values,
+                        std::uint32_t max_key);
+
+// start[c] = first index of key c in the sorted keys, start[num_cells] = keys.size().
+void cell_starts(const std::vector<std::uint32_t>& sorted_keys, std::uint32_t num_cells,
+                 std::vector<std::uint32_t>& start);
+
+}  // namespace axg

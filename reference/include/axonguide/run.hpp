@@ -1,0 +1,65 @@
+#pragma once
+// One run: placement (shared host code), the engine's step loop, the graph analysis and
+// the output files. The CLI's `run`, the golden checks, the benchmarks and the tests all
+// go through here.
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "axonguide/engine.hpp"
+#include "axonguide/graph.hpp"
+#include "axonguide/scene.hpp"
+#include "axonguide/state.hpp"
+
+namespace axg {
+
+using EngineFactory =
+    std::function<std::unique_ptr<Engine>(const Scene&, const Placement&)>;
+
+struct RunOptions {
+  // Builds the backend's engine; empty means the reference engine.
+  EngineFactory make_engine;
+  // Called after each step (for progress lines); may be empty.
+  std::function<void(const StepStats&, std::uint32_t steps)> on_step;
+};
+
+struct GraphAnalysis {
+  Csr out;                                // connections by source
+  std::optional<BfsResult> bfs;           // when analysis.bfs_sources is non-empty
+  std::vector<std::uint32_t> component;   // when analysis.components
+  std::size_t component_count = 0;
+  std::size_t largest_component = 0;
+};
+
+struct RunResult {
+  Scene scene;  // as run (seed overrides applied)
+  std::vector<core::Vec3> soma;
+  std::uint64_t placement_redraws = 0;
+  NeuronState neurons;
+  std::vector<StepStats> stats;           // step 0 and every step run
+  std::vector<std::vector<core::Vec3>> paths;  // tips after each step (output.paths)
+  GraphAnalysis graph;
+  PhaseTimes times;
+  std::uint32_t steps_run = 0;
+  std::size_t engine_bytes = 0;
+};
+
+// Memory needed for the scene, estimated before anything is allocated.
+std::uint64_t estimate_run_bytes(const Scene& scene);
+
+// Runs the scene. Throws InputError / RunError.
+RunResult run_scene(const Scene& scene, const RunOptions& options);
+
+GraphAnalysis analyze_graph(const Scene& scene, const NeuronState& neurons);
+
+// Writes every output file of SPEC §4 into dir, manifest.json last.
+struct OutputInfo {
+  std::vector<std::pair<std::string, std::string>> files;  // name, sha256
+};
+OutputInfo write_outputs(const RunResult& result, const std::filesystem::path& dir,
+                         const std::string& backend_name, int threads,
+                         const std::vector<std::string>& warnings);
+
+}  // namespace axg

@@ -1,0 +1,106 @@
+#include "axonguide/output.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include <fmt/format.h>
+#include <openssl/evp.h>
+
+#include "axonguide/error.hpp"
+
+namespace axg {
+
+namespace fs = std::filesystem;
+
+AtomicFile::AtomicFile(const fs::path& dir, const std::string& name)
+    : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())) {
+  file_ = std::fopen(temp_.c_str(), "wb");
+  if (!file_)
+    throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(errno)));
+  static thread_local char buffer[1 << 16];
+  std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+}
+
+AtomicFile::~AtomicFile() {
+  if (file_) std::fclose(file_);
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove(temp_, ec);
+  }
+}
+
+void AtomicFile::write(std::string_view text) {
+  if (std::fwrite(text.data(), 1, text.size(), file_) != text.size())
+    throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
+}
+
+void AtomicFile::commit() {
+  const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+  const int err = errno;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!ok || !closed)
+    throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(err)));
+  std::error_code ec;
+  fs::rename(temp_, final_, ec);
+  if (ec) throw RunError(fmt::format("cannot rename {} to {}: {}", temp_.string(), final_.string(), ec.message()));
+  committed_ = true;
+}
+
+namespace {
+std::string to_hex(const unsigned char* md, unsigned int len) {
+  std::string hex;
+  hex.reserve(2 * len);
+  for (unsigned int i = 0; i < len; ++i) hex += fmt::format("{:02x}", md[i]);
+  return hex;
+}
+
+struct Digest {
+  EVP_MD_CTX* ctx = EVP_MD_CTX_new();
+  Digest() {
+    if (!ctx || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) throw RunError("SHA-256 unavailable");
+  }
+  ~Digest() { EVP_MD_CTX_free(ctx); }
+  void update(const void* p, std::size_t n) { EVP_DigestUpdate(ctx, p, n); }
+  std::string hex() {
+    unsigned char md[EVP_MAX_MD_SIZE];
+    unsigned int len = 0;
+    EVP_DigestFinal_ex(ctx, md, &len);
+    return to_hex(md, len);
+  }
+};
+}  // namespace
+
+std::string sha256_hex(std::string_view bytes) {
+  Digest d;
+  d.update(bytes.data(), bytes.size());
+  return d.hex();
+}
+
+std::string sha256_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RunError(fmt::format("cannot read {} for hashing", path.string()));
+  Digest d;
+  std::vector<char> buf(1 << 16);
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    d.update(buf.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  return d.hex();
+}
+
+void prepare_output_dir(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError(fmt::format("--out {}: exists and is not a directory", dir.string()));
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(fmt::format("--out {}: cannot create directory: {}", dir.string(), ec.message()));
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw InputError(fmt::format("--out {}: directory is not writable", dir.string()));
+}
+
+}  // namespace axg

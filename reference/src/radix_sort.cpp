@@ -1,0 +1,69 @@
+#include "axonguide/radix_sort.hpp"
+
+#include <algorithm>
+
+#include <tbb/parallel_for.h>
+
+namespace axg {
+
+namespace {
+constexpr int kDigitBits = 11;
+constexpr std::uint32_t kBuckets = 1u << kDigitBits;
+constexpr std::size_t kChunk = 1u << 16;  // elements per histogram chunk
+}  // namespace
+
+void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& values,
+                        std::uint32_t max_key) {
+  const std::size_t n = keys.size();
+  if (n < 2) return;
+  int passes = 0;
+  for (std::uint64_t span = 1; span <= max_key; span <<= kDigitBits) ++passes;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::uint32_t> keys2(n), values2(n);
+  std::vector<std::uint32_t> count(chunks * kBuckets);
+  for (int pass = 0; pass < passes; ++pass) {
+    const int shift = pass * kDigitBits;
+    std::fill(count.begin(), count.end(), 0u);
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+      std::uint32_t* h = &count[c * kBuckets];
+      const std::size_t end = std::min(n, (c + 1) * kChunk);
+      for (std::size_t i = c * kChunk; i < end; ++i) ++h[(keys[i] >> shift) & (kBuckets - 1)];
+    });
+    // Exclusive scan in (digit, chunk) order: chunk c's items of a digit come after those
+    // of chunks < c, which is what makes the pass stable.
+    std::uint32_t sum = 0;
+    for (std::uint32_t d = 0; d < kBuckets; ++d)
+      for (std::size_t c = 0; c < chunks; ++c) {
+        const std::uint32_t v = count[c * kBuckets + d];
+        count[c * kBuckets + d] = sum;
+        sum += v;
+      }
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+      std::uint32_t* h = &count[c * kBuckets];
+      const std::size_t end = std::min(n, (c + 1) * kChunk);
+      for (std::size_t i = c * kChunk; i < end; ++i) {
+        const std::uint32_t pos = h[(keys[i] >> shift) & (kBuckets - 1)]++;
+        keys2[pos] = keys[i];
+        values2[pos] = values[i];
+      }
+    });
+    keys.swap(keys2);
+    values.swap(values2);
+  }
+}
+
+void cell_starts(const std::vector<std::uint32_t>& sorted_keys, std::uint32_t num_cells,
+                 std::vector<std::uint32_t>& start) {
+  start.assign(static_cast<std::size_t>(num_cells) + 1, 0);
+  const std::size_t n = sorted_keys.size();
+  // Each boundary between different keys writes the starts of the cells it spans; the
+  // writes of different boundaries never overlap.
+  tbb::parallel_for(std::size_t{0}, n + 1, [&](std::size_t k) {
+    const std::uint32_t prev = k == 0 ? 0 : sorted_keys[k - 1] + 1;
+    const std::uint32_t here = k == n ? num_cells : sorted_keys[k];
+    if (k != 0 && k != n && sorted_keys[k - 1] == sorted_keys[k]) return;
+    for (std::uint32_t c = prev; c <= here; ++c) start[c] = static_cast<std::uint32_t>(k);
+  });
+}
+
+}  // namespace axg

@@ -1,0 +1,104 @@
+#include "axonguide/run.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "axonguide/error.hpp"
+#include "axonguide/placement.hpp"
+
+namespace axg {
+
+std::uint64_t estimate_run_bytes(const Scene& scene) {
+  const double n = static_cast<double>(scene.neurons.count);
+  // Placement: soma, heading, overlap index (12 B). Engine: reference_bytes_per_neuron.
+  // Results and graph: copy of the state, CSR out/in/undirected, level, parent, component.
+  const double per_neuron = 2 * 24 + 12 + static_cast<double>(reference_bytes_per_neuron()) + 64;
+  double bytes = n * per_neuron;
+  if (scene.output.paths) bytes += n * 24.0 * (scene.steps + 1.0);
+  return bytes >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
+}
+
+GraphAnalysis analyze_graph(const Scene& scene, const NeuronState& neurons) {
+  GraphAnalysis a;
+  const std::size_t n = neurons.size();
+  std::vector<std::uint32_t> src, dst;
+  for (std::size_t i = 0; i < n; ++i)
+    if (neurons.target[i] != core::kNoNeuron) {
+      src.push_back(static_cast<std::uint32_t>(i));
+      dst.push_back(neurons.target[i]);
+    }
+  a.out = csr_from_edges(n, src, dst);
+  if (!scene.analysis.bfs_sources.empty()) {
+    std::vector<std::uint32_t> sources(scene.analysis.bfs_sources.begin(), scene.analysis.bfs_sources.end());
+    a.bfs = bfs(a.out, transpose(a.out), sources);
+  }
+  if (scene.analysis.components) {
+    a.component = components(undirected(a.out));
+    std::vector<std::uint32_t> size(n, 0);
+    for (std::uint32_t c : a.component) ++size[c];
+    for (std::size_t v = 0; v < n; ++v)
+      if (size[v] != 0) {
+        ++a.component_count;
+        a.largest_component = std::max<std::size_t>(a.largest_component, size[v]);
+      }
+  }
+  return a;
+}
+
+RunResult run_scene(const Scene& scene, const RunOptions& options) {
+  check_memory_estimate(estimate_run_bytes(scene),
+                        fmt::format("a run of {} neurons", scene.neurons.count));
+  if (scene.neurons.count >= core::kNoNeuron)
+    throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)",
+                                 scene.neurons.count, core::kNoNeuron));
+  RunResult r;
+  r.scene = scene;
+  Placement placement;
+  {
+    ScopedPhase p(r.times, 0, "placement");
+    placement = place_neurons(scene);
+  }
+  r.placement_redraws = placement.redraws;
+  std::unique_ptr<Engine> engine;
+  {
+    ScopedPhase p(r.times, 0, "setup");
+    engine = options.make_engine ? options.make_engine(scene, placement)
+                                 : make_reference_engine(scene, placement);
+  }
+  r.soma = std::move(placement.soma);
+  placement.heading.clear();
+  placement.heading.shrink_to_fit();
+
+  StepStats s0;
+  s0.growing = scene.neurons.count;
+  r.stats.push_back(s0);
+  if (scene.output.paths) {
+    r.paths.emplace_back();
+    engine->tips(r.paths.back());
+  }
+  for (std::uint32_t step = 1; step <= scene.steps; ++step) {
+    const StepStats s = engine->step(step, r.times);
+    r.stats.push_back(s);
+    r.steps_run = step;
+    if (scene.output.paths) {
+      r.paths.emplace_back();
+      engine->tips(r.paths.back());
+    }
+    if (options.on_step) options.on_step(s, scene.steps);
+    if (s.growing == 0) break;  // nothing left to grow or guide
+  }
+  r.engine_bytes = engine->bytes();
+  {
+    ScopedPhase p(r.times, 0, "readback");
+    engine->finish(r.neurons);
+  }
+  engine.reset();
+  {
+    ScopedPhase p(r.times, 0, "graph");
+    r.graph = analyze_graph(scene, r.neurons);
+  }
+  return r;
+}
+
+}  // namespace axg

@@ -1,0 +1,514 @@
+#include "axonguide/scene.hpp"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <initializer_list>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "axonguide/error.hpp"
+
+namespace axg {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr std::size_t kMaxSceneBytes = 16u << 20;  // a scene is a few KiB; 16 MiB is abuse
+constexpr int kMaxNesting = 32;                     // the format needs 5 levels
+
+std::string show(const json& v) {
+  std::string s = v.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
+std::string join_path(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+[[noreturn]] void fail(const std::string& path, const json& value, const std::string& allowed) {
+  throw InputError(fmt::format("scene: {} = {}: {}", path, show(value), allowed));
+}
+
+// An allowed numeric interval, printed the way a user reads it.
+struct Range {
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  bool lo_open = false, hi_open = false;
+  std::string text() const {
+    const bool has_lo = lo != -HUGE_VAL, has_hi = hi != HUGE_VAL;
+    if (has_lo && has_hi)
+      return fmt::format("must be in {}{}, {}{}", lo_open ? '(' : '[', lo, hi, hi_open ? ')' : ']');
+    if (has_lo) return fmt::format("must be {} {}", lo_open ? ">" : ">=", lo);
+    if (has_hi) return fmt::format("must be {} {}", hi_open ? "<" : "<=", hi);
+    return "must be a finite number";
+  }
+  bool contains(double v) const {
+    if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+    if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+    return true;
+  }
+};
+Range positive() { return {0, HUGE_VAL, true, false}; }
+Range non_negative() { return {0, HUGE_VAL, false, false}; }
+Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+
+// Reads one JSON object, remembering which keys were consumed so that unknown keys
+// can be reported with the list of allowed ones.
+class ObjectReader {
+ public:
+  ObjectReader(const json& j, std::string path) : j_(j), path_(std::move(path)) {
+    if (!j_.is_object()) fail(path_.empty() ? "(scene)" : path_, j_, "must be a JSON object");
+  }
+
+  const json* take(const char* key) {
+    allowed_.push_back(key);
+    auto it = j_.find(key);
+    return it == j_.end() ? nullptr : &*it;
+  }
+  std::string path(const char* key) const { return join_path(path_, key); }
+
+  void number(const char* key, double& out, Range range) {
+    if (const json* v = take(key)) out = read_number(*v, path(key), range);
+  }
+  void optional_number(const char* key, std::optional<double>& out, Range range) {
+    if (const json* v = take(key)) {
+      if (v->is_null()) out.reset();
+      else out = read_number(*v, path(key), range);
+    }
+  }
+  template <class Int>
+  void integer(const char* key, Int& out, std::uint64_t lo, std::uint64_t hi) {
+    if (const json* v = take(key)) out = static_cast<Int>(read_integer(*v, path(key), lo, hi));
+  }
+  void boolean(const char* key, bool& out) {
+    if (const json* v = take(key)) {
+      if (!v->is_boolean()) fail(path(key), *v, "must be true or false");
+      out = v->get<bool>();
+    }
+  }
+  template <class E>
+  void choice(const char* key, E& out, std::initializer_list<std::pair<const char*, E>> names) {
+    const json* v = take(key);
+    if (!v) return;
+    std::string allowed;
+    for (auto& [name, value] : names) {
+      if (v->is_string() && v->get<std::string>() == name) {
+        out = value;
+        return;
+      }
+      allowed += fmt::format("{}\"{}\"", allowed.empty() ? "" : ", ", name);
+    }
+    fail(path(key), *v, "must be one of " + allowed);
+  }
+
+  // Reports the first key that was never taken.
+  void finish() const {
+    for (auto it = j_.begin(); it != j_.end(); ++it) {
+      bool known = false;
+      for (const char* k : allowed_) known = known || it.key() == k;
+      if (!known) {
+        std::string list;
+        for (const char* k : allowed_) list += fmt::format("{}{}", list.empty() ? "" : ", ", k);
+        throw InputError(fmt::format("scene: unknown key {} (allowed here: {})",
+                                     join_path(path_, it.key()), list));
+      }
+    }
+  }
+
+  static double read_number(const json& v, const std::string& path, Range range) {
+    if (!v.is_number()) fail(path, v, "must be a number; " + range.text());
+    double x = v.get<double>();
+    if (!std::isfinite(x)) fail(path, v, "must be finite; " + range.text());
+    if (!range.contains(x)) fail(path, v, range.text());
+    return x;
+  }
+  // Integers are compared exactly (a 64-bit seed does not fit a double); a float is
+  // accepted when it is integral, so that 1e6 means 1000000.
+  static std::uint64_t read_integer(const json& v, const std::string& path, std::uint64_t lo,
+                                    std::uint64_t hi) {
+    const std::string allowed = fmt::format("must be an integer in [{}, {}]", lo, hi);
+    if (v.is_number_unsigned()) {
+      std::uint64_t x = v.get<std::uint64_t>();
+      if (x < lo || x > hi) fail(path, v, allowed);
+      return x;
+    }
+    if (v.is_number_integer()) {  // negative (non-negative ones are number_unsigned)
+      fail(path, v, allowed);
+    }
+    if (!v.is_number_float()) fail(path, v, allowed);
+    double x = v.get<double>();
+    if (!std::isfinite(x) || x != std::floor(x) || x < static_cast<double>(lo) ||
+        x > static_cast<double>(hi) || x >= 18446744073709551616.0)
+      fail(path, v, allowed);
+    return static_cast<std::uint64_t>(x);
+  }
+
+ private:
+  const json& j_;
+  std::string path_;
+  std::vector<const char*> allowed_;
+};
+
+// Rejects nesting deeper than kMaxNesting before the parser sees the text, so that a
+// hostile file cannot exhaust the stack.
+void check_nesting(const std::string& text, const std::string& origin) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (char ch : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (ch == '\\') escaped = true;
+      else if (ch == '"') in_string = false;
+      continue;
+    }
+    if (ch == '"') in_string = true;
+    else if (ch == '{' || ch == '[') {
+      if (++depth > kMaxNesting)
+        throw InputError(fmt::format("{}: JSON nested deeper than {} levels; a scene needs 5",
+                                     origin, kMaxNesting));
+    } else if (ch == '}' || ch == ']') --depth;
+  }
+}
+
+core::Vec3 read_position(const json& v, const std::string& path) {
+  if (!v.is_array() || v.size() != 3) fail(path, v, "must be [x, y, z] or null");
+  double c[3];
+  for (int k = 0; k < 3; ++k)
+    c[k] = ObjectReader::read_number(v[k], fmt::format("{}[{}]", path, k), Range{});
+  return {c[0], c[1], c[2]};
+}
+
+void read_source_common(ObjectReader& r, double& emission, double& diffusion, double& decay,
+                        double& kd) {
+  r.number("emission", emission, non_negative());
+  r.number("diffusion", diffusion, positive());
+  r.number("decay", decay, non_negative());
+  r.number("kd", kd, positive());
+}
+
+Source read_source(const json& j, const std::string& path) {
+  Source s;
+  ObjectReader r(j, path);
+  r.choice("kind", s.kind, {{"attractant", CueKind::kAttractant}, {"repellent", CueKind::kRepellent}});
+  if (const json* p = r.take("position")) {
+    if (p->is_null()) s.position.reset();
+    else s.position = read_position(*p, r.path("position"));
+  }
+  read_source_common(r, s.emission, s.diffusion, s.decay, s.kd);
+  r.number("min_concentration", s.min_concentration, non_negative());
+  r.number("max_concentration", s.max_concentration, positive());
+  r.finish();
+  if (s.min_concentration > s.max_concentration)
+    throw InputError(fmt::format(
+        "scene: {}.min_concentration = {} is above {}.max_concentration = {}: min must be <= max",
+        path, s.min_concentration, path, s.max_concentration));
+  return s;
+}
+
+void read_scene(const json& root, Scene& s) {
+  ObjectReader top(root, "");
+  top.integer("seed", s.seed, 0, UINT64_MAX);
+  top.integer("steps", s.steps, 0, 1000000000);
+  top.number("dt", s.dt, positive());
+
+  if (const json* j = top.take("neurons")) {
+    ObjectReader r(*j, "neurons");
+    auto& n = s.neurons;
+    r.integer("count", n.count, 1, std::uint64_t{1} << 53);
+    r.number("soma_radius", n.soma_radius, positive());
+    if (const json* g = r.take("region")) {
+      ObjectReader rr(*g, "neurons.region");
+      rr.choice("shape", n.shape, {{"ball", RegionShape::kBall}, {"sphere", RegionShape::kSphere},
+                                   {"box", RegionShape::kBox}});
+      rr.number("radius", n.radius, positive());
+      rr.finish();
+    }
+    r.choice("sampler", n.sampler, {{"rejection", Sampler::kRejection}, {"normal", Sampler::kNormal},
+                                    {"trig", Sampler::kTrig}, {"coordinate", Sampler::kCoordinate}});
+    r.choice("overlap", n.overlap_reject, {{"reject", true}, {"allow", false}});
+    r.integer("max_attempts", n.max_attempts, 1, 1000000000);
+    r.finish();
+  }
+
+  if (const json* j = top.take("axons")) {
+    ObjectReader r(*j, "axons");
+    auto& a = s.axons;
+    r.number("step_length", a.step_length, positive());
+    r.number("contact_distance", a.contact_distance, non_negative());
+    r.choice("contact", a.contact, {{"swept", ContactRule::kSwept}, {"endpoint", ContactRule::kEndpoint}});
+    r.optional_number("bounds_radius", a.bounds_radius, positive());
+    r.finish();
+  }
+
+  if (const json* j = top.take("guidance")) {
+    ObjectReader r(*j, "guidance");
+    auto& g = s.guidance;
+    r.choice("model", g.model, {{"direct", GuidanceModel::kDirect}, {"snr", GuidanceModel::kSnr},
+                                {"vector_sum", GuidanceModel::kVectorSum}});
+    r.number("turn_angle", g.turn_angle, {0, 3.141592653589793, false, false});
+    r.number("gain", g.gain, non_negative());
+    r.number("vector_weight", g.vector_weight, non_negative());
+    r.number("growth_cone_width", g.growth_cone_width, positive());
+    r.number("sensing_radius", g.sensing_radius, positive());
+    r.finish();
+  }
+
+  if (const json* j = top.take("cues")) {
+    ObjectReader r(*j, "cues");
+    auto& c = s.cues;
+    r.choice("field", c.field, {{"particles", FieldKind::kParticles}, {"grid", FieldKind::kGrid},
+                                {"analytic", FieldKind::kAnalytic}});
+    if (const json* src = r.take("sources")) {
+      if (!src->is_array()) fail("cues.sources", *src, "must be an array of source objects");
+      c.sources.clear();
+      for (std::size_t k = 0; k < src->size(); ++k)
+        c.sources.push_back(read_source((*src)[k], fmt::format("cues.sources[{}]", k)));
+    }
+    if (const json* rs = r.take("random_sources")) {
+      ObjectReader rr(*rs, "cues.random_sources");
+      auto& q = c.random_sources;
+      rr.integer("count", q.count, 0, 1000000);
+      rr.number("attractant_fraction", q.attractant_fraction, closed(0, 1));
+      read_source_common(rr, q.emission, q.diffusion, q.decay, q.kd);
+      rr.finish();
+    }
+    if (const json* p = r.take("particles")) {
+      ObjectReader rr(*p, "cues.particles");
+      auto& q = c.particles;
+      rr.number("amount", q.amount, positive());
+      rr.choice("motion", q.motion, {{"brownian", Motion::kBrownian}, {"ballistic", Motion::kBallistic}});
+      rr.boolean("collisions", q.collisions);
+      rr.number("speed", q.speed, non_negative());
+      rr.number("damping", q.damping, closed(0, 1));
+      rr.number("radius", q.radius, positive());
+      rr.number("stiffness", q.stiffness, closed(0, 1));
+      rr.finish();
+    }
+    if (const json* g = r.take("grid")) {
+      ObjectReader rr(*g, "cues.grid");
+      auto& q = c.grid;
+      rr.number("spacing", q.spacing, positive());
+      rr.choice("scheme", q.scheme, {{"explicit", GridScheme::kExplicit}, {"implicit", GridScheme::kImplicit}});
+      rr.choice("boundary", q.boundary, {{"absorbing", GridBoundary::kAbsorbing},
+                                         {"reflecting", GridBoundary::kReflecting}});
+      rr.boolean("allow_substeps", q.allow_substeps);
+      rr.finish();
+    }
+    r.finish();
+  }
+
+  if (const json* j = top.take("analysis")) {
+    ObjectReader r(*j, "analysis");
+    if (const json* b = r.take("bfs_sources")) {
+      if (!b->is_array()) fail("analysis.bfs_sources", *b, "must be an array of neuron ids");
+      s.analysis.bfs_sources.clear();
+      for (std::size_t k = 0; k < b->size(); ++k)
+        s.analysis.bfs_sources.push_back(static_cast<std::uint64_t>(ObjectReader::read_integer(
+            (*b)[k], fmt::format("analysis.bfs_sources[{}]", k), 0, std::uint64_t{1} << 53)));
+    }
+    r.boolean("components", s.analysis.components);
+    r.finish();
+  }
+
+  if (const json* j = top.take("output")) {
+    ObjectReader r(*j, "output");
+    r.boolean("paths", s.output.paths);
+    r.integer("stats_every", s.output.stats_every, 1, 1000000000);
+    r.boolean("vtk", s.output.vtk);
+    r.integer("frames_every", s.output.frames_every, 1, 1000000000);
+    r.finish();
+  }
+  top.finish();
+}
+
+// Checks that involve more than one key.
+void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool cues_given) {
+  const auto& n = s.neurons;
+  if (n.soma_radius >= n.radius)
+    throw InputError(fmt::format(
+        "scene: neurons.soma_radius = {} is not below neurons.region.radius = {}: somas must fit in the region",
+        n.soma_radius, n.radius));
+  for (std::size_t k = 0; k < s.analysis.bfs_sources.size(); ++k)
+    if (s.analysis.bfs_sources[k] >= n.count)
+      throw InputError(fmt::format(
+          "scene: analysis.bfs_sources[{}] = {}: must be a neuron id below neurons.count = {}", k,
+          s.analysis.bfs_sources[k], n.count));
+  if (s.guidance.model == GuidanceModel::kDirect) {
+    if (cues_given) warnings.push_back("guidance.model is \"direct\": the cues section is ignored");
+    return;
+  }
+  const double rb = s.bounds_radius();
+  for (std::size_t k = 0; k < s.cues.sources.size(); ++k) {
+    const auto& p = s.cues.sources[k].position;
+    if (!p) continue;
+    const bool inside = n.shape == RegionShape::kBox
+                            ? std::fabs(p->x) <= rb && std::fabs(p->y) <= rb && std::fabs(p->z) <= rb
+                            : core::norm(*p) <= rb;
+    if (!inside)
+      throw InputError(fmt::format(
+          "scene: cues.sources[{}].position = [{}, {}, {}]: must lie inside the domain ({} of {} {})",
+          k, p->x, p->y, p->z, n.shape == RegionShape::kBox ? "box" : "ball",
+          n.shape == RegionShape::kBox ? "half-edge" : "radius", rb));
+  }
+  if (s.cues.field == FieldKind::kGrid && s.cues.grid.spacing >= rb)
+    throw InputError(fmt::format(
+        "scene: cues.grid.spacing = {}: must be below the domain radius {} (the grid needs cells)",
+        s.cues.grid.spacing, rb));
+}
+
+}  // namespace
+
+ParseResult parse_scene(const std::string& text, const std::string& origin) {
+  check_nesting(text, origin);
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    throw InputError(fmt::format("{}: not valid JSON: {}", origin, e.what()));
+  }
+  ParseResult result;
+  read_scene(root, result.scene);
+  check_consistency(result.scene, result.warnings, root.is_object() && root.contains("cues"));
+  return result;
+}
+
+ParseResult load_scene_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError(fmt::format("{}: cannot open scene file: {}", path, std::strerror(errno)));
+  if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("{}: is a directory, not a scene file", path));
+  if (!S_ISREG(st.st_mode)) throw InputError(fmt::format("{}: not a regular file", path));
+  if (static_cast<std::size_t>(st.st_size) > kMaxSceneBytes)
+    throw InputError(fmt::format("{}: {} bytes is too large for a scene (limit {})", path,
+                                 st.st_size, kMaxSceneBytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot read scene file: {}", path, std::strerror(errno)));
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: read error", path));
+  return parse_scene(buf.str(), path);
+}
+
+const char* name_of(RegionShape v) {
+  switch (v) {
+    case RegionShape::kBall: return "ball";
+    case RegionShape::kSphere: return "sphere";
+    case RegionShape::kBox: return "box";
+  }
+  return "?";
+}
+const char* name_of(Sampler v) {
+  switch (v) {
+    case Sampler::kRejection: return "rejection";
+    case Sampler::kNormal: return "normal";
+    case Sampler::kTrig: return "trig";
+    case Sampler::kCoordinate: return "coordinate";
+  }
+  return "?";
+}
+const char* name_of(ContactRule v) { return v == ContactRule::kSwept ? "swept" : "endpoint"; }
+const char* name_of(GuidanceModel v) {
+  switch (v) {
+    case GuidanceModel::kDirect: return "direct";
+    case GuidanceModel::kSnr: return "snr";
+    case GuidanceModel::kVectorSum: return "vector_sum";
+  }
+  return "?";
+}
+const char* name_of(FieldKind v) {
+  switch (v) {
+    case FieldKind::kParticles: return "particles";
+    case FieldKind::kGrid: return "grid";
+    case FieldKind::kAnalytic: return "analytic";
+  }
+  return "?";
+}
+const char* name_of(CueKind v) { return v == CueKind::kAttractant ? "attractant" : "repellent"; }
+const char* name_of(Motion v) { return v == Motion::kBrownian ? "brownian" : "ballistic"; }
+const char* name_of(GridScheme v) { return v == GridScheme::kExplicit ? "explicit" : "implicit"; }
+const char* name_of(GridBoundary v) { return v == GridBoundary::kAbsorbing ? "absorbing" : "reflecting"; }
+const char* name_of(core::AxonStatus v) {
+  switch (v) {
+    case core::AxonStatus::kGrowing: return "growing";
+    case core::AxonStatus::kConnected: return "connected";
+    case core::AxonStatus::kExited: return "exited";
+    case core::AxonStatus::kMaxSteps: return "max_steps";
+  }
+  return "?";
+}
+
+json scene_to_json(const Scene& s) {
+  auto source_json = [](const Source& src) {
+    json j;
+    j["kind"] = name_of(src.kind);
+    j["position"] = src.position ? json::array({src.position->x, src.position->y, src.position->z})
+                                 : json(nullptr);
+    j["emission"] = src.emission;
+    j["diffusion"] = src.diffusion;
+    j["decay"] = src.decay;
+    j["kd"] = src.kd;
+    j["min_concentration"] = src.min_concentration;
+    j["max_concentration"] = src.max_concentration;
+    return j;
+  };
+  json j;
+  j["seed"] = s.seed;
+  j["steps"] = s.steps;
+  j["dt"] = s.dt;
+  const auto& n = s.neurons;
+  j["neurons"] = {{"count", n.count},
+                  {"soma_radius", n.soma_radius},
+                  {"region", {{"shape", name_of(n.shape)}, {"radius", n.radius}}},
+                  {"sampler", name_of(n.sampler)},
+                  {"overlap", n.overlap_reject ? "reject" : "allow"},
+                  {"max_attempts", n.max_attempts}};
+  const auto& a = s.axons;
+  j["axons"] = {{"step_length", a.step_length},
+                {"contact_distance", a.contact_distance},
+                {"contact", name_of(a.contact)},
+                {"bounds_radius", a.bounds_radius ? json(*a.bounds_radius) : json(nullptr)}};
+  const auto& g = s.guidance;
+  j["guidance"] = {{"model", name_of(g.model)},          {"turn_angle", g.turn_angle},
+                   {"gain", g.gain},                      {"vector_weight", g.vector_weight},
+                   {"growth_cone_width", g.growth_cone_width}, {"sensing_radius", g.sensing_radius}};
+  const auto& c = s.cues;
+  json sources = json::array();
+  for (const auto& src : c.sources) sources.push_back(source_json(src));
+  const auto& rs = c.random_sources;
+  j["cues"] = {{"field", name_of(c.field)},
+               {"sources", sources},
+               {"random_sources", {{"count", rs.count}, {"attractant_fraction", rs.attractant_fraction},
+                                   {"emission", rs.emission}, {"diffusion", rs.diffusion},
+                                   {"decay", rs.decay}, {"kd", rs.kd}}},
+               {"particles", {{"amount", c.particles.amount}, {"motion", name_of(c.particles.motion)},
+                              {"collisions", c.particles.collisions}, {"speed", c.particles.speed},
+                              {"damping", c.particles.damping}, {"radius", c.particles.radius},
+                              {"stiffness", c.particles.stiffness}}},
+               {"grid", {{"spacing", c.grid.spacing}, {"scheme", name_of(c.grid.scheme)},
+                         {"boundary", name_of(c.grid.boundary)},
+                         {"allow_substeps", c.grid.allow_substeps}}}};
+  j["analysis"] = {{"bfs_sources", s.analysis.bfs_sources}, {"components", s.analysis.components}};
+  j["output"] = {{"paths", s.output.paths}, {"stats_every", s.output.stats_every},
+                 {"vtk", s.output.vtk}, {"frames_every", s.output.frames_every}};
+  return j;
+}
+
+Scene Scene::builtin_default() {
+  // Until cue guidance lands this is a direct-guidance scene: the report's Table 4 density
+  // (100 neurons in a ball of radius 2.5) scaled to 1000 neurons.
+  Scene s;
+  s.neurons.count = 1000;
+  s.neurons.radius = 5.3860;  // 2.5 * 10^(1/3): the paper scenes' constant density
+  s.guidance.model = GuidanceModel::kDirect;
+  return s;
+}
+
+}  // namespace axg

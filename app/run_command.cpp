@@ -5,13 +5,12 @@
 #include <thread>
 
 #include <fmt/format.h>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include "axonguide/error.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/placement.hpp"
 #include "axonguide/run.hpp"
+#include "axonguide/threads.hpp"
 #include "axonguide/version.hpp"
 #include "backend.hpp"
 #include "commands.hpp"
@@ -123,14 +122,16 @@ int cmd_run(const RunArgs& args) {
 
   RunOptions options;
   options.make_engine = engine_factory(args.backend);
-  const int threads = args.threads > 0 ? args.threads : static_cast<int>(tbb::info::default_concurrency());
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const int threads = resolve_threads(args.threads);
   prepare_output_dir(args.out_dir);
 
   Progress progress;
   options.on_step = [&](const StepStats& s, std::uint32_t steps) { progress.update(s, steps); };
-  RunResult result = run_scene(scene, options);
-  write_outputs(result, args.out_dir, args.backend, threads, parsed.warnings);
+  RunResult result = with_threads(threads, [&] {
+    RunResult r = run_scene(scene, options);
+    write_outputs(r, args.out_dir, args.backend, threads, parsed.warnings);
+    return r;
+  });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!args.quiet) {
     print_summary(result, args, threads, origin, wall);

@@ -16,7 +16,7 @@ namespace {
 
 constexpr int kMaxIterations = 200;
 // A bisection is forced when the bracket has not halved for this many evaluations
-// (guards against Newton creeping along a noisy F; not reached in practice).
+// (a guard against Newton creeping along a noisy F).
 constexpr int kMaxStepsWithoutHalving = 12;
 
 // GSL's default error handler aborts, and the _e functions still call it (underflow of
@@ -73,10 +73,19 @@ Law make_law(int d) {
   return law;
 }
 
+// 1 - t^2 for t in [0, 1], to a few ulps and non-increasing in t (so that the masses
+// below do not wobble at the ulp level): for t >= 1/2, 1 - t is exact and the rounded
+// product (1 - t) * fl(1 + t) cannot increase with t (the exact factor falls by more
+// than the rounded one can rise, since t > 1/3); below 1/2, 1 - fl(t * t) is a chain
+// of monotone roundings with no cancellation (t^2 <= 1/4).
+double one_minus_square(double t) {
+  return t >= 0.5 ? (1.0 - t) * (1.0 + t) : 1.0 - t * t;
+}
+
 // For t in [0, 1]: the tail mass P(|x| > t) = I_{1-t^2}(b, 1/2) when `tail`, otherwise
 // the central mass P(|x| <= t) = I_{t^2}(1/2, b). GSL is always called in the
 // orientation where its continued fraction is applied directly, with both t^2 and
-// 1 - t^2 = (1 - t)(1 + t) formed here to full relative accuracy; the small one of the
+// 1 - t^2 formed here to full relative accuracy; the small one of the
 // two masses therefore keeps its relative accuracy, the other is its complement.
 double mass(const Law& law, double t, bool tail) {
   if (law.d == 3) return tail ? 1.0 - t : t;  // I_{t^2}(1/2, 1) = t exactly
@@ -85,7 +94,7 @@ double mass(const Law& law, double t, bool tail) {
     const double a = beta_inc(0.5, law.b, s);
     return tail ? 1.0 - a : a;
   }
-  const double y = (1.0 - t) * (1.0 + t);
+  const double y = one_minus_square(t);
   const double bt = beta_inc(law.b, 0.5, y);
   return tail ? bt : 1.0 - bt;
 }
@@ -94,7 +103,7 @@ double mass(const Law& law, double t, bool tail) {
 double density(const Law& law, double t) {
   if (law.d == 3) return 0.5;
   const double s = t * t;
-  const double ln_y = s < 0.5 ? std::log1p(-s) : std::log((1.0 - t) * (1.0 + t));
+  const double ln_y = s < 0.5 ? std::log1p(-s) : std::log(one_minus_square(t));
   return std::exp(0.5 * (static_cast<double>(law.d) - 3.0) * ln_y - law.ln_beta);
 }
 

@@ -3,9 +3,12 @@
 #include <boost/graph/compressed_sparse_row_graph.hpp>
 #include <boost/graph/graphml.hpp>
 #include <boost/property_map/dynamic_property_map.hpp>
-#include <boost/property_map/function_property_map.hpp>
+
+#include <fmt/format.h>
 
 #include <ostream>
+#include <stdexcept>
+#include <typeinfo>
 #include <streambuf>
 
 #include "axonguide/output.hpp"
@@ -42,6 +45,33 @@ class FileBuf : public std::streambuf {
   char buf_[1 << 16];
 };
 
+// A read-only dynamic property whose strings are fmt's shortest round-trip form: Boost's
+// own adaptor prints through an ostringstream at the default 6 significant digits, which
+// loses precision (and is slow). value() still reports T, so the GraphML key declares
+// the right attr.type.
+template <class Key, class T, class Fn>
+class ExactProperty final : public boost::dynamic_property_map {
+ public:
+  explicit ExactProperty(Fn fn) : fn_(std::move(fn)) {}
+  boost::any get(const boost::any& key) override { return fn_(boost::any_cast<Key>(key)); }
+  std::string get_string(const boost::any& key) override {
+    return fmt::format("{}", fn_(boost::any_cast<Key>(key)));
+  }
+  void put(const boost::any&, const boost::any&) override {
+    throw std::logic_error("graphml properties are read-only");
+  }
+  const std::type_info& key() const override { return typeid(Key); }
+  const std::type_info& value() const override { return typeid(T); }
+
+ private:
+  Fn fn_;
+};
+
+template <class Key, class T, class Fn>
+void add_property(boost::dynamic_properties& dp, const std::string& name, Fn fn) {
+  dp.insert(name, boost::shared_ptr<boost::dynamic_property_map>(new ExactProperty<Key, T, Fn>(std::move(fn))));
+}
+
 struct EdgeData {
   std::uint32_t step;
   double length;
@@ -63,26 +93,20 @@ void write_graphml(const RunResult& r, AtomicFile& file) {
   Graph g(boost::edges_are_sorted, edges.begin(), edges.end(), data.begin(), n);
 
   using Vertex = Graph::vertex_descriptor;
+  using Edge = Graph::edge_descriptor;
   boost::dynamic_properties dp;
-  auto soma = [&](int axis) {
-    return boost::make_function_property_map<Vertex, double>([&r, axis](Vertex v) {
-      const core::Vec3& p = r.soma[v];
-      return axis == 0 ? p.x : axis == 1 ? p.y : p.z;
-    });
-  };
-  dp.property("x", soma(0));
-  dp.property("y", soma(1));
-  dp.property("z", soma(2));
-  dp.property("status", boost::make_function_property_map<Vertex, std::string>(
-                            [&r](Vertex v) { return std::string(name_of(r.neurons.status[v])); }));
+  add_property<Vertex, double>(dp, "x", [&r](Vertex v) { return r.soma[v].x; });
+  add_property<Vertex, double>(dp, "y", [&r](Vertex v) { return r.soma[v].y; });
+  add_property<Vertex, double>(dp, "z", [&r](Vertex v) { return r.soma[v].z; });
+  add_property<Vertex, std::string>(dp, "status",
+                                    [&r](Vertex v) { return std::string(name_of(r.neurons.status[v])); });
   if (r.graph.bfs)
-    dp.property("level", boost::make_function_property_map<Vertex, int>(
-                             [&r](Vertex v) { return static_cast<int>(r.graph.bfs->level[v]); }));
+    add_property<Vertex, int>(dp, "level", [&r](Vertex v) { return static_cast<int>(r.graph.bfs->level[v]); });
   if (!r.graph.component.empty())
-    dp.property("component", boost::make_function_property_map<Vertex, long>(
-                                 [&r](Vertex v) { return static_cast<long>(r.graph.component[v]); }));
-  dp.property("step", get(&EdgeData::step, g));
-  dp.property("length", get(&EdgeData::length, g));
+    add_property<Vertex, long>(dp, "component",
+                               [&r](Vertex v) { return static_cast<long>(r.graph.component[v]); });
+  add_property<Edge, int>(dp, "step", [&g](Edge e) { return static_cast<int>(g[e].step); });
+  add_property<Edge, double>(dp, "length", [&g](Edge e) { return g[e].length; });
 
   FileBuf buf(file);
   std::ostream os(&buf);

@@ -16,16 +16,32 @@ namespace axg {
 
 namespace fs = std::filesystem;
 
+namespace {
+std::string to_hex(const unsigned char* md, unsigned int len) {
+  static constexpr char digits[] = "0123456789abcdef";
+  std::string hex;
+  hex.reserve(2 * len);
+  for (unsigned int i = 0; i < len; ++i) {
+    hex += digits[md[i] >> 4];
+    hex += digits[md[i] & 15];
+  }
+  return hex;
+}
+}  // namespace
+
 AtomicFile::AtomicFile(const fs::path& dir, const std::string& name)
     : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())) {
   file_ = std::fopen(temp_.c_str(), "wb");
   if (!file_)
     throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(errno)));
-  static thread_local char buffer[1 << 16];
-  std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+  auto* ctx = EVP_MD_CTX_new();
+  if (!ctx || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) throw RunError("SHA-256 unavailable");
+  digest_ = ctx;
 }
 
 AtomicFile::~AtomicFile() {
+  EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(digest_));
   if (file_) std::fclose(file_);
   if (!committed_) {
     std::error_code ec;
@@ -34,11 +50,12 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::write(std::string_view text) {
+  EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(digest_), text.data(), text.size());
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size())
     throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
 }
 
-void AtomicFile::commit() {
+std::string AtomicFile::commit() {
   const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
   const int err = errno;
   const bool closed = std::fclose(file_) == 0;
@@ -49,15 +66,13 @@ void AtomicFile::commit() {
   fs::rename(temp_, final_, ec);
   if (ec) throw RunError(fmt::format("cannot rename {} to {}: {}", temp_.string(), final_.string(), ec.message()));
   committed_ = true;
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned int len = 0;
+  EVP_DigestFinal_ex(static_cast<EVP_MD_CTX*>(digest_), md, &len);
+  return to_hex(md, len);
 }
 
 namespace {
-std::string to_hex(const unsigned char* md, unsigned int len) {
-  std::string hex;
-  hex.reserve(2 * len);
-  for (unsigned int i = 0; i < len; ++i) hex += fmt::format("{:02x}", md[i]);
-  return hex;
-}
 
 struct Digest {
   EVP_MD_CTX* ctx = EVP_MD_CTX_new();

@@ -17,19 +17,24 @@ namespace {
 
 using core::AxonStatus;
 
+// Axon state is kept in "slot" order: slot k holds neuron somas_.ids[k], the order of the
+// soma grid. Growing axons are visited in that order, so neighbouring slots look up
+// neighbouring cells and the state arrays are read sequentially. Slot order changes
+// only memory traffic: every axon computes the same pure function of its own state.
 class ReferenceEngine final : public Engine {
  public:
   ReferenceEngine(const Scene& scene, const Placement& placement)
       : scene_(scene), params_(growth_params(scene)) {
-    const std::size_t n = placement.soma.size();
     somas_ = build_cell_grid(soma_grid_geometry(scene), placement.soma);
+    const std::size_t n = placement.soma.size();
     state_.resize(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      state_.heading[i] = placement.heading[i];
-      state_.tip[i] = axon_start(placement.soma[i], placement.heading[i], scene);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+      const std::uint32_t i = somas_.ids[k];
+      state_.heading[k] = placement.heading[i];
+      state_.tip[k] = axon_start(placement.soma[i], placement.heading[i], scene);
     });
     active_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) active_[i] = static_cast<std::uint32_t>(i);
+    for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
   }
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
@@ -46,15 +51,27 @@ class ReferenceEngine final : public Engine {
     return stats_;
   }
 
-  void tips(std::vector<core::Vec3>& out) override { out = state_.tip; }
+  void tips(std::vector<core::Vec3>& out) override {
+    out.resize(state_.size());
+    tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t k) { out[somas_.ids[k]] = state_.tip[k]; });
+  }
 
   void finish(NeuronState& out) override {
-    for (std::uint32_t i : active_) state_.status[i] = AxonStatus::kMaxSteps;
-    out = state_;
+    for (std::uint32_t k : active_) state_.status[k] = AxonStatus::kMaxSteps;
+    out.resize(state_.size());
+    tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t k) {
+      const std::uint32_t i = somas_.ids[k];
+      out.tip[i] = state_.tip[k];
+      out.heading[i] = state_.heading[k];
+      out.length[i] = state_.length[k];
+      out.status[i] = state_.status[k];
+      out.steps[i] = state_.steps[k];
+      out.target[i] = state_.target[k];
+    });
   }
 
   std::size_t bytes() const override {
-    return somas_.bytes() + active_.capacity() * 4 + state_.size() * reference_bytes_per_neuron();
+    return somas_.bytes() + active_.capacity() * 4 + state_.size() * (reference_bytes_per_neuron() - 36);
   }
 
  private:
@@ -67,14 +84,15 @@ class ReferenceEngine final : public Engine {
     const Counts c = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, active_.size()), Counts{},
         [&](const tbb::blocked_range<std::size_t>& r, Counts acc) {
-          for (std::size_t k = r.begin(); k != r.end(); ++k) {
-            const std::uint32_t i = active_[k];
-            const core::AxonStep s = core::grow_axon(i, state_.tip[i], state_.heading[i], params_, somas);
-            state_.tip[i] = s.tip;
-            state_.length[i] += s.advanced;
-            state_.steps[i] = step;
-            state_.status[i] = s.status;
-            state_.target[i] = s.target;
+          for (std::size_t a = r.begin(); a != r.end(); ++a) {
+            const std::uint32_t k = active_[a];
+            const core::AxonStep s =
+                core::grow_axon(somas_.ids[k], state_.tip[k], state_.heading[k], params_, somas);
+            state_.tip[k] = s.tip;
+            state_.length[k] += s.advanced;
+            state_.steps[k] = step;
+            state_.status[k] = s.status;
+            state_.target[k] = s.target;
             acc.connected += s.status == AxonStatus::kConnected;
             acc.exited += s.status == AxonStatus::kExited;
           }
@@ -85,17 +103,17 @@ class ReferenceEngine final : public Engine {
     stats_.exited += c.exited;
   }
 
-  // Keeps the growing axons, in id order.
+  // Keeps the growing axons, in slot order.
   void compact_active() {
-    auto still = [&](std::uint32_t i) { return state_.status[i] == AxonStatus::kGrowing; };
-    active_.erase(std::remove_if(active_.begin(), active_.end(), [&](std::uint32_t i) { return !still(i); }),
+    active_.erase(std::remove_if(active_.begin(), active_.end(),
+                                 [&](std::uint32_t k) { return state_.status[k] != AxonStatus::kGrowing; }),
                   active_.end());
   }
 
   const Scene& scene_;
   core::GrowthParams params_;
   CellGrid somas_;
-  NeuronState state_;
+  NeuronState state_;  // in slot order
   std::vector<std::uint32_t> active_;
   StepStats stats_;
 };

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <ctime>
 
+#include <tbb/parallel_for.h>
+
 #include "axonguide/error.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run.hpp"
@@ -38,27 +40,43 @@ class CsvWriter {
   fmt::memory_buffer buf_;
 };
 
+// Formats rows [0, n) in parallel chunks and writes them in order: the bytes are those of
+// a sequential loop. row(i, buffer) appends row i.
+template <class RowFn>
+void write_rows(AtomicFile& f, std::size_t n, RowFn row) {
+  constexpr std::size_t kRows = 8192, kBatch = 32;
+  std::vector<fmt::memory_buffer> chunks(kBatch);
+  for (std::size_t first = 0; first < n; first += kRows * kBatch) {
+    const std::size_t count = std::min(kBatch, (n - first + kRows - 1) / kRows);
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t c) {
+      chunks[c].clear();
+      const std::size_t begin = first + c * kRows, end = std::min(n, begin + kRows);
+      for (std::size_t i = begin; i < end; ++i) row(i, chunks[c]);
+    });
+    for (std::size_t c = 0; c < count; ++c) f.write(std::string_view(chunks[c].data(), chunks[c].size()));
+  }
+}
+
 std::int64_t signed_id(std::uint32_t id) { return id == core::kNoNeuron ? -1 : static_cast<std::int64_t>(id); }
 
 void write_neurons(const RunResult& r, AtomicFile& f) {
-  CsvWriter w(f);
-  w.row("id,soma_x,soma_y,soma_z,radius,status,tip_x,tip_y,tip_z,length,steps,target\n");
+  f.write("id,soma_x,soma_y,soma_z,radius,status,tip_x,tip_y,tip_z,length,steps,target\n");
   const auto& n = r.neurons;
   const double radius = r.scene.neurons.soma_radius;
-  for (std::size_t i = 0; i < n.size(); ++i)
-    w.row("{},{},{},{},{},{},{},{},{},{},{},{}\n", i, r.soma[i].x, r.soma[i].y, r.soma[i].z, radius,
-          name_of(n.status[i]), n.tip[i].x, n.tip[i].y, n.tip[i].z, n.length[i], n.steps[i],
-          signed_id(n.target[i]));
-  w.flush();
+  write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
+    fmt::format_to(std::back_inserter(b), "{},{},{},{},{},{},{},{},{},{},{},{}\n", i, r.soma[i].x, r.soma[i].y,
+                   r.soma[i].z, radius, name_of(n.status[i]), n.tip[i].x, n.tip[i].y, n.tip[i].z, n.length[i],
+                   n.steps[i], signed_id(n.target[i]));
+  });
 }
 
 void write_connections(const RunResult& r, AtomicFile& f) {
-  CsvWriter w(f);
-  w.row("source,target,step,length\n");
+  f.write("source,target,step,length\n");
   const auto& n = r.neurons;
-  for (std::size_t i = 0; i < n.size(); ++i)
-    if (n.target[i] != core::kNoNeuron) w.row("{},{},{},{}\n", i, n.target[i], n.steps[i], n.length[i]);
-  w.flush();
+  write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
+    if (n.target[i] != core::kNoNeuron)
+      fmt::format_to(std::back_inserter(b), "{},{},{},{}\n", i, n.target[i], n.steps[i], n.length[i]);
+  });
 }
 
 void write_stats(const RunResult& r, AtomicFile& f) {
@@ -74,17 +92,16 @@ void write_stats(const RunResult& r, AtomicFile& f) {
 }
 
 void write_bfs(const RunResult& r, AtomicFile& f) {
-  CsvWriter w(f);
   const auto& g = r.graph;
   const bool has_bfs = g.bfs.has_value(), has_comp = !g.component.empty();
-  w.row("id{}{}\n", has_bfs ? ",level,parent" : "", has_comp ? ",component" : "");
-  for (std::size_t v = 0; v < r.neurons.size(); ++v) {
-    w.row("{}", v);
-    if (has_bfs) w.row(",{},{}", g.bfs->level[v], g.bfs->parent[v]);
-    if (has_comp) w.row(",{}", g.component[v]);
-    w.row("\n");
-  }
-  w.flush();
+  f.write(fmt::format("id{}{}\n", has_bfs ? ",level,parent" : "", has_comp ? ",component" : ""));
+  write_rows(f, r.neurons.size(), [&](std::size_t v, fmt::memory_buffer& b) {
+    auto out = std::back_inserter(b);
+    fmt::format_to(out, "{}", v);
+    if (has_bfs) fmt::format_to(out, ",{},{}", g.bfs->level[v], g.bfs->parent[v]);
+    if (has_comp) fmt::format_to(out, ",{}", g.component[v]);
+    fmt::format_to(out, "\n");
+  });
 }
 
 void write_paths(const RunResult& r, AtomicFile& f) {
@@ -121,13 +138,15 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
                          int threads, const std::vector<std::string>& warnings) {
   prepare_output_dir(dir);
   OutputInfo info;
+  PhaseTimes output_times;
   auto emit = [&](const std::string& name, auto&& writer) {
+    const auto start = std::chrono::steady_clock::now();
     AtomicFile f(dir, name);
     writer(r, f);
-    f.commit();
-    info.files.emplace_back(name, sha256_file(dir / name));
+    info.files.emplace_back(name, f.commit());
+    output_times.add(0, name.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    std::fprintf(stderr, "%s %.3f\n", name.c_str(), output_times.rows().back().seconds);
   };
-  PhaseTimes output_time;
   const auto t0 = std::chrono::steady_clock::now();
   emit("neurons.csv", write_neurons);
   emit("connections.csv", write_connections);

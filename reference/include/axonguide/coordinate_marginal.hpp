@@ -14,10 +14,16 @@
 //
 // Accuracy. Both tails are computed from the tail mass P(|x| > t) = I_{1-t^2}((d-1)/2, 1/2)
 // and the centre from P(|x| <= t) = I_{t^2}(1/2, (d-1)/2), each evaluated in the
-// orientation where GSL applies its continued fraction directly, with 1 - t^2 formed as
-// (1 - t)(1 + t); so F_d(x) for x < 0 carries a relative (not absolute) error, down to
-// F ~ 1e-300. For d = 3 the masses are the exact linear forms (GSL's beta_inc at
-// (1/2, 1) is only good to ~|ln t|/2 ulp, which would spoil x = 2u - 1).
+// orientation where GSL applies its continued fraction directly, with 1 - t^2 formed
+// accurately and monotonically in t ((1 - t)(1 + t) for t >= 1/2, 1 - t*t below); so
+// F_d(x) for x < 0 carries a relative (not absolute) error, down to F ~ 1e-300 (below
+// DBL_MIN GSL reports underflow and the mass counts as 0). For d = 3 the masses are the exact linear forms (GSL's beta_inc at
+// (1/2, 1) is off by up to ~250 ulp for small t, which would spoil x = 2u - 1).
+// The computed F carries a relative noise of about (d/2) eps (GSL's prefactor
+// exp(b ln y + ...) turns one rounding into b ulps), so adjacent doubles can be out of
+// order by that much; measured against 60-digit roots the inverse is within 2.2e-15
+// relative (tails: within an ulp), and consecutive u can come out reordered by up to
+// ~6e-15 relative.
 //
 // All functions are pure: same inputs, same output bits on the same libm/GSL build, no
 // state (apart from turning GSL's abort-on-error handler off, once, thread-safely).
@@ -37,8 +43,13 @@ double coordinate_marginal_pdf(double x, int d);
 // The result is the double t* (with sign attached) among the two neighbours of the root
 // of the computed F that has the smaller residual; for u below DBL_MIN (subnormal u)
 // the tail mass underflows in GSL and the result is only as good as that allows.
-// Throws std::runtime_error if the safeguarded Newton iteration does not converge within
-// 200 steps (it is not expected to).
+// Method: safeguarded Newton on |x| in the bracket [0, 1] (Newton on the log of the tail
+// mass in the tails; bisection when a step leaves the bracket or fails to halve), started
+// from the Student-t / Cornish-Fisher approximation or the leading tail term, with a few
+// deliberate ulp overshoots at the end so that the bracket closes to adjacent doubles.
+// About 6 F evaluations on average (at most 17 seen for d <= 1000), ~2-3 us per call.
+// Throws std::runtime_error if it does not converge within 200 evaluations (it is not
+// expected to).
 double coordinate_marginal_inverse(double u, int d);
 
 // Same as coordinate_marginal_inverse, also reporting the number of F evaluations

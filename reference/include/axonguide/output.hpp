@@ -18,8 +18,9 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   void write(std::string_view text);
-  // Flushes, syncs and renames into place; throws RunError on any I/O failure.
-  void commit();
+  // Flushes, syncs and renames into place; returns the hex SHA-256 of the bytes
+  // written. Throws RunError on any I/O failure.
+  std::string commit();
   std::FILE* handle() { return file_; }
   const std::filesystem::path& final_path() const { return final_; }
 
@@ -27,6 +28,7 @@ class AtomicFile {
   std::filesystem::path final_, temp_;
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  void* digest_ = nullptr;  // EVP_MD_CTX, hashed as bytes are written
 };
 
 // Hex SHA-256 of a file's bytes (OpenSSL EVP).

@@ -118,7 +118,7 @@ Row measure(const char* function, const char* range, std::uint64_t count, std::u
   return row;
 }
 
-TEST(PmathUlp, TableAgainstGlibc) {
+TEST(pmath, UlpTableAgainstGlibc) {
   constexpr std::uint64_t kPerFunction = 10'000'000;
   // Split kPerFunction over a function's ranges.
   auto share = [](int i, int ranges) {
@@ -183,7 +183,7 @@ TEST(PmathUlp, TableAgainstGlibc) {
 // 2. Edge cases
 // ---------------------------------------------------------------------------------------------
 
-TEST(PmathEdge, Log) {
+TEST(pmath, EdgeLog) {
   EXPECT_BITS_EQ(pm::log(0.0), -kInf);
   EXPECT_BITS_EQ(pm::log(-0.0), -kInf);
   EXPECT_BITS_EQ(pm::log(1.0), 0.0);  // +0, not -0
@@ -205,7 +205,7 @@ TEST(PmathEdge, Log) {
   EXPECT_BITS_EQ(pm::log(kMinSubnormal), -0x1.74385446d71c3p+9);  // -744.44007192138126...
 }
 
-TEST(PmathEdge, Exp) {
+TEST(pmath, EdgeExp) {
   EXPECT_BITS_EQ(pm::exp(0.0), 1.0);
   EXPECT_BITS_EQ(pm::exp(-0.0), 1.0);
   EXPECT_BITS_EQ(pm::exp(kInf), kInf);
@@ -238,7 +238,7 @@ TEST(PmathEdge, Exp) {
   }
 }
 
-TEST(PmathEdge, SinCosSpecialValues) {
+TEST(pmath, EdgeSinCosSpecialValues) {
   EXPECT_BITS_EQ(pm::sin(0.0), 0.0);
   EXPECT_BITS_EQ(pm::sin(-0.0), -0.0);  // sign bit kept
   EXPECT_BITS_EQ(pm::cos(0.0), 1.0);
@@ -270,7 +270,7 @@ TEST(PmathEdge, SinCosSpecialValues) {
   EXPECT_ULP_LE(pm::cos(1e22), 0.5232147853951389, 1);
 }
 
-TEST(PmathEdge, SinCosNearMultiplesOfHalfPi) {
+TEST(pmath, EdgeSinCosNearMultiplesOfHalfPi) {
   // The doubles nearest k pi/2 (and their neighbours): the reduced argument cancels down to
   // the rounding error of x, the hardest case for the reduction.
   for (int k = 1; k <= 2000; ++k) {
@@ -296,7 +296,7 @@ TEST(PmathEdge, SinCosNearMultiplesOfHalfPi) {
   EXPECT_LT(std::fabs(pm::cos(hardest)), 1e-18);
 }
 
-TEST(PmathEdge, SinCosHugeArguments) {
+TEST(pmath, EdgeSinCosHugeArguments) {
   for (const double x : {1e22, 1e100, 1e300, 0x1p1023, DBL_MAX, 0x1.921fb54442d18p+1000,
                          std::nextafter(0x1.921fb54442d18p+20, 0.0), 0x1.921fb54442d18p+20}) {
     EXPECT_ULP_LE(pm::sin(x), std::sin(x), 1);
@@ -310,7 +310,7 @@ TEST(PmathEdge, SinCosHugeArguments) {
 // 3. sincos and sincos_turns
 // ---------------------------------------------------------------------------------------------
 
-TEST(PmathSincos, SameBitsAsSinAndCos) {
+TEST(pmath, SincosSameBitsAsSinAndCos) {
   SplitMix64 rng{5};
   for (int i = 0; i < 1'000'000; ++i) {
     double x = 0.0;
@@ -335,7 +335,7 @@ TEST(PmathSincos, SameBitsAsSinAndCos) {
   }
 }
 
-TEST(PmathSincos, TurnsExactQuarterTurns) {
+TEST(pmath, SincosTurnsExactQuarterTurns) {
   const struct {
     double u, s, c;
   } cases[] = {{0.0, 0.0, 1.0}, {0.25, 1.0, 0.0}, {0.5, 0.0, -1.0}, {0.75, -1.0, 0.0}};
@@ -356,7 +356,7 @@ TEST(PmathSincos, TurnsExactQuarterTurns) {
   EXPECT_BITS_EQ(c, 1.0);
 }
 
-TEST(PmathSincos, TurnsAgainstGlibcAndExtendedPrecision) {
+TEST(pmath, SincosTurnsAgainstGlibcAndExtendedPrecision) {
   constexpr long double kTwoPiL = 6.283185307179586476925286766559005768L;
   const double two_pi = 2.0 * kPi;
   SplitMix64 rng{7};
@@ -385,14 +385,14 @@ TEST(PmathSincos, TurnsAgainstGlibcAndExtendedPrecision) {
       ASSERT_LE(err, ulp_of(ref) + 1e-18) << "u = " << std::hexfloat << u;
     }
 
-    // Against glibc on the rounded angle 2 pi u: that angle is off by up to ~1.2e-15 u, so
-    // allow 1 ulp plus that much.
+    // Against glibc on the rounded angle 2 pi u: that angle is off by up to ~1.14e-15 u (the
+    // rounding of 2 pi and of the product), so allow our 1 ulp + glibc's 1/2 ulp + that much.
     const double sg = std::sin(two_pi * u);
     const double cg = std::cos(two_pi * u);
     const double arg_tol = 1.2e-15 * u;
     for (const auto& [ours, ref] : {std::pair{s, sg}, std::pair{c, cg}}) {
       if (bits_of(ours) != bits_of(ref)) ++differ_glibc;
-      const double allowed = ulp_of(ref) + arg_tol;
+      const double allowed = 1.5 * ulp_of(ref) + arg_tol;
       const double ratio = std::fabs(ours - ref) / allowed;
       if (ratio > worst_tol_glibc) worst_tol_glibc = ratio;
       ASSERT_LE(std::fabs(ours - ref), allowed) << "u = " << std::hexfloat << u;
@@ -403,7 +403,7 @@ TEST(PmathSincos, TurnsAgainstGlibcAndExtendedPrecision) {
   }
   std::printf("sincos_turns: %d arguments; max ulp vs long-double sin/cos(2 pi u) = %llu "
               "(ignoring |diff| <= 1e-18); vs glibc sin/cos(2*pi*u): %.2f %% differ, worst "
-              "|diff| = %.3f of the allowance (1 ulp + 1.2e-15 u)\n",
+              "|diff| = %.3f of the allowance (1.5 ulp + 1.2e-15 u)\n",
               kCount, static_cast<unsigned long long>(max_ulp_ext),
               100.0 * static_cast<double>(differ_glibc) / (2.0 * kCount), worst_tol_glibc);
   std::fflush(stdout);
@@ -428,26 +428,26 @@ rc::Gen<double> binade_uniform(int min_field, int max_field, bool random_sign) {
 
 // exp(log x) = x up to the rounding of log x, which exp turns into a relative error of
 // |log x| ulp-of-1: so the bound is (|log x| + 2) * 2^-52 relative, a few ulps only near x = 1.
-RC_GTEST_PROP(PmathProperty, ExpOfLogIsIdentity, ()) {
+RC_GTEST_PROP(pmath, PropertyExpOfLogIsIdentity, ()) {
   const double x = *binade_uniform(1, 2046, false);
   const double y = pm::exp(pm::log(x));
   const double bound = (std::fabs(std::log(x)) + 2.0) * DBL_EPSILON * x;
   RC_ASSERT(std::fabs(y - x) <= bound);
 }
 
-RC_GTEST_PROP(PmathProperty, ExpOfLogNearOneIsWithinFewUlps, ()) {
+RC_GTEST_PROP(pmath, PropertyExpOfLogNearOneIsWithinFewUlps, ()) {
   const double x = *binade_uniform(1023 - 4, 1023 + 3, false);  // [1/16, 16)
   RC_ASSERT(ulp_distance(pm::exp(pm::log(x)), x) <= 4u);
 }
 
-RC_GTEST_PROP(PmathProperty, SinSquaredPlusCosSquaredIsOne, ()) {
+RC_GTEST_PROP(pmath, PropertySinSquaredPlusCosSquaredIsOne, ()) {
   const double x = *binade_uniform(0, 2046, true);
   const double s = pm::sin(x);
   const double c = pm::cos(x);
   RC_ASSERT(std::fabs(s * s + c * c - 1.0) <= 1e-15);
 }
 
-RC_GTEST_PROP(PmathProperty, SinIsOddCosIsEven, ()) {
+RC_GTEST_PROP(pmath, PropertySinIsOddCosIsEven, ()) {
   const double x = *binade_uniform(0, 2046, false);
   RC_ASSERT(bits_of(pm::sin(-x)) == (bits_of(pm::sin(x)) ^ (1ull << 63)));
   RC_ASSERT(bits_of(pm::cos(-x)) == bits_of(pm::cos(x)));
@@ -471,7 +471,7 @@ double ns_per_call(const std::vector<double>& args, int repeats, F f) {
          (static_cast<double>(args.size()) * repeats);
 }
 
-TEST(PmathSpeed, NanosecondsPerCall) {
+TEST(pmath, SpeedNanosecondsPerCall) {
   constexpr std::size_t kArgs = 1 << 16;
   constexpr int kRepeats = 8;
   SplitMix64 rng{99};

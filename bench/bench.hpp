@@ -1,0 +1,46 @@
+#pragma once
+// Benchmarks of `axonguide bench`. Each returns rows of measurements; the command
+// prints them as a table or JSON. Timings are wall-clock medians of repeated runs.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "axonguide/run.hpp"
+
+namespace axg::bench {
+
+struct Row {
+  std::string group;    // e.g. "samplers"
+  std::string name;     // what was measured
+  std::string impl;     // ours / peer name
+  int threads = 1;
+  double size = 0;      // problem size (points, neurons, vertices...)
+  double seconds = 0;   // median wall time
+  double rate = 0;      // work units per second
+  std::string unit;     // work unit of `rate`
+  double ratio = 0;     // rate relative to the peer named in `baseline` (0: none)
+  std::string baseline;
+  std::string note;
+};
+
+struct Options {
+  bool quick = false;
+  int max_threads = 0;         // 0: all hardware threads
+  EngineFactory make_engine;   // empty: reference
+  std::string backend = "reference";
+  std::function<void(const Row&)> on_row;  // progress (each row as it is measured)
+};
+
+std::vector<Row> samplers(const Options& o);
+std::vector<Row> growth(const Options& o);
+std::vector<Row> bfs(const Options& o);
+std::vector<Row> particles(const Options& o);
+std::vector<Row> grid(const Options& o);
+
+// Median wall seconds of `repeats` calls of fn (at least one; more while under budget).
+double time_median(const std::function<void()>& fn, int repeats = 5, double budget_seconds = 2.0);
+
+// The report's direct-guidance density: 100 neurons in a ball of radius 2.5.
+Scene paper_direct_scene(std::uint64_t neurons);
+
+}  // namespace axg::bench

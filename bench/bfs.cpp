@@ -1,0 +1,112 @@
+// BFS: ours (level-synchronous, TBB) against Boost.Graph's breadth_first_search on the
+// same CSR, on a random graph and on a simulated network; components likewise.
+#include <boost/graph/breadth_first_search.hpp>
+#include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <boost/graph/connected_components.hpp>
+#include <boost/graph/visitors.hpp>
+#include <fmt/format.h>
+#include <tbb/info.h>
+
+#include "axonguide/core/random.hpp"
+#include "axonguide/graph.hpp"
+#include "axonguide/placement.hpp"
+#include "bench.hpp"
+
+namespace axg::bench {
+
+namespace {
+
+using BoostCsr = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
+                                                    boost::no_property, std::uint32_t, std::uint32_t>;
+
+BoostCsr to_boost(const Csr& g) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(g.edges());
+  for (std::size_t u = 0; u < g.vertices(); ++u)
+    for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k)
+      edges.emplace_back(static_cast<std::uint32_t>(u), g.targets[k]);
+  return BoostCsr(boost::edges_are_sorted, edges.begin(), edges.end(), g.vertices());
+}
+
+std::vector<int> boost_levels(const BoostCsr& bg, std::uint32_t source) {
+  std::vector<int> level(num_vertices(bg), -1);
+  level[source] = 0;
+  std::vector<boost::default_color_type> color(num_vertices(bg));
+  boost::breadth_first_search(
+      bg, source,
+      boost::visitor(boost::make_bfs_visitor(boost::record_distances(level.data(), boost::on_tree_edge())))
+          .color_map(boost::make_iterator_property_map(color.begin(), get(boost::vertex_index, bg))));
+  return level;
+}
+
+Csr random_graph(std::size_t n, std::size_t m) {
+  std::vector<std::uint32_t> src(m), dst(m);
+  for (std::size_t k = 0; k < m; ++k) {
+    core::Rng rng(7, core::Stream::kBenchmark, k, 1);
+    src[k] = rng.word32() % static_cast<std::uint32_t>(n);
+    dst[k] = rng.word32() % static_cast<std::uint32_t>(n);
+  }
+  // Sort edges by (source, target) so neighbour lists are ascending.
+  std::vector<std::uint64_t> key(m);
+  for (std::size_t k = 0; k < m; ++k) key[k] = (std::uint64_t{src[k]} << 32) | dst[k];
+  std::sort(key.begin(), key.end());
+  for (std::size_t k = 0; k < m; ++k) src[k] = key[k] >> 32, dst[k] = static_cast<std::uint32_t>(key[k]);
+  return csr_from_edges(n, src, dst);
+}
+
+}  // namespace
+
+std::vector<Row> bfs(const Options& o) {
+  std::vector<Row> rows;
+  auto emit = [&](Row r) {
+    if (o.on_row) o.on_row(r);
+    rows.push_back(std::move(r));
+  };
+  const int threads = o.max_threads > 0 ? o.max_threads : static_cast<int>(tbb::info::default_concurrency());
+  const std::size_t n = o.quick ? 100000 : 2000000;
+
+  struct Case {
+    std::string name;
+    Csr g;
+  };
+  std::vector<Case> cases;
+  cases.push_back({fmt::format("random digraph, {} vertices, avg out-degree 8", n), random_graph(n, 8 * n)});
+  {
+    const Scene scene = paper_direct_scene(o.quick ? 20000 : 200000);
+    RunResult r = run_scene(scene, RunOptions{});
+    cases.push_back({fmt::format("simulated network ({} neurons), undirected view", scene.neurons.count),
+                     undirected(r.graph.out)});
+  }
+  for (const Case& c : cases) {
+    const Csr in = transpose(c.g);
+    const BoostCsr bg = to_boost(c.g);
+    const double edges = static_cast<double>(c.g.edges());
+    BfsResult ours;
+    const double t_ours = time_median([&] { ours = axg::bfs(c.g, in, {0}); });
+    std::vector<int> theirs;
+    const double t_boost = time_median([&] { theirs = boost_levels(bg, 0); });
+    bool same = true;
+    for (std::size_t v = 0; v < c.g.vertices(); ++v) same = same && ours.level[v] == theirs[v];
+    emit({"bfs", c.name, "boost breadth_first_search", 1, double(c.g.vertices()), t_boost, edges / t_boost,
+          "edges/s", 1.0, "boost", fmt::format("reached {}", ours.reached)});
+    emit({"bfs", c.name, "axonguide bfs (levels + parents)", threads, double(c.g.vertices()), t_ours, edges / t_ours,
+          "edges/s", t_boost / t_ours, "boost", same ? "levels equal Boost's" : "LEVELS DIFFER FROM BOOST"});
+    // Components of the undirected view.
+    if (c.name.find("undirected") != std::string::npos) {
+      std::vector<std::uint32_t> comp;
+      const double tc = time_median([&] { comp = components(c.g); });
+      std::vector<int> bc(c.g.vertices());
+      const double tb = time_median([&] { boost::connected_components(bg, bc.data()); });
+      emit({"components", c.name, "boost connected_components", 1, double(c.g.vertices()), tb, edges / tb, "edges/s",
+            1.0, "boost", ""});
+      emit({"components", c.name, "axonguide components", 1, double(c.g.vertices()), tc, edges / tc, "edges/s",
+            tb / tc, "boost", ""});
+    }
+  }
+  return rows;
+}
+
+std::vector<Row> particles(const Options&) { return {}; }
+std::vector<Row> grid(const Options&) { return {}; }
+
+}  // namespace axg::bench

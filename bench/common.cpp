@@ -1,0 +1,32 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "bench.hpp"
+
+namespace axg::bench {
+
+double time_median(const std::function<void()>& fn, int repeats, double budget_seconds) {
+  std::vector<double> t;
+  double spent = 0;
+  for (int k = 0; k < repeats && (k == 0 || spent < budget_seconds); ++k) {
+    const auto a = std::chrono::steady_clock::now();
+    fn();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+    t.push_back(s);
+    spent += s;
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+Scene paper_direct_scene(std::uint64_t neurons) {
+  Scene s;
+  s.neurons.count = neurons;
+  s.neurons.radius = 2.5 * std::cbrt(static_cast<double>(neurons) / 100.0);
+  s.guidance.model = GuidanceModel::kDirect;
+  s.steps = 100;
+  return s;
+}
+
+}  // namespace axg::bench

@@ -1,0 +1,99 @@
+#pragma once
+// Helpers shared by the tests: temporary directories, running scenes, hashing outputs.
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <fmt/format.h>
+#include <rapidcheck.h>
+
+#include "axonguide/output.hpp"
+#include "axonguide/run.hpp"
+#include "axonguide/scene.hpp"
+#include "axonguide/threads.hpp"
+
+namespace axg::test {
+
+namespace fs = std::filesystem;
+
+// A fresh directory, removed with its content when the object dies.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() / fmt::format("axg-test-{}-{}", ::getpid(), counter++);
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// SHA-256 of every output file except the ones allowed to vary (timings, manifest).
+inline std::map<std::string, std::string> output_hashes(const fs::path& dir) {
+  std::map<std::string, std::string> h;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name == "timings.csv" || name == "manifest.json") continue;
+    h[name] = sha256_file(e.path());
+  }
+  return h;
+}
+
+// Runs a scene on `threads` threads with the given engine and returns the output hashes.
+inline std::map<std::string, std::string> run_hashes(const Scene& scene, int threads,
+                                                     const EngineFactory& make = {}) {
+  TempDir dir;
+  RunOptions options;
+  options.make_engine = make;
+  const RunResult r = with_threads(threads, [&] { return run_scene(scene, options); });
+  write_outputs(r, dir.path(), "test", threads, {});
+  return output_hashes(dir.path());
+}
+
+// Small random scenes for properties: every sampler, region, contact rule, overlap mode.
+inline rc::Gen<Scene> gen_direct_scene() {
+  return rc::gen::exec([] {
+    Scene s;
+    s.seed = *rc::gen::arbitrary<std::uint64_t>();
+    s.steps = *rc::gen::inRange<std::uint32_t>(1, 60);
+    s.neurons.count = *rc::gen::inRange<std::uint64_t>(1, 400);
+    s.neurons.shape = *rc::gen::element(RegionShape::kBall, RegionShape::kSphere, RegionShape::kBox);
+    s.neurons.sampler =
+        *rc::gen::element(Sampler::kRejection, Sampler::kNormal, Sampler::kTrig, Sampler::kCoordinate);
+    s.neurons.radius = *rc::gen::inRange(20, 80) / 10.0;
+    s.neurons.soma_radius = *rc::gen::inRange(5, 40) / 100.0;
+    s.neurons.overlap_reject = *rc::gen::arbitrary<bool>();
+    s.axons.step_length = *rc::gen::inRange(5, 100) / 100.0;
+    s.axons.contact_distance = *rc::gen::inRange(0, 20) / 100.0;
+    s.axons.contact = *rc::gen::element(ContactRule::kSwept, ContactRule::kEndpoint);
+    if (*rc::gen::arbitrary<bool>()) s.axons.bounds_radius = s.neurons.radius * 1.5;
+    s.guidance.model = GuidanceModel::kDirect;
+    s.analysis.bfs_sources = {0};
+    s.output.paths = *rc::gen::arbitrary<bool>();
+    s.output.stats_every = *rc::gen::inRange<std::uint32_t>(1, 5);
+    return s;
+  });
+}
+
+inline std::string read_file(const fs::path& p) {
+  std::FILE* f = std::fopen(p.c_str(), "rb");
+  if (!f) return {};
+  std::string s;
+  char buf[65536];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) s.append(buf, n);
+  std::fclose(f);
+  return s;
+}
+
+}  // namespace axg::test

@@ -49,6 +49,18 @@ int dispatch(int argc, char** argv) {
   bench_cmd->add_option("--threads", bench.threads, "Largest thread count to measure (0: all cores)")
       ->check(CLI::Range(0, 4096));
 
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const auto* sub : app.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == argv[1];
+    }
+    if (!known) {
+      std::fprintf(stderr, "axonguide: unknown command '%s' (commands: %s; see --help)\n", argv[1], names.c_str());
+      return axg::kExitBadInput;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <rapidcheck.h>
 
+#include "axonguide/error.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run.hpp"
 #include "axonguide/scene.hpp"

@@ -138,14 +138,10 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
                          int threads, const std::vector<std::string>& warnings) {
   prepare_output_dir(dir);
   OutputInfo info;
-  PhaseTimes output_times;
   auto emit = [&](const std::string& name, auto&& writer) {
-    const auto start = std::chrono::steady_clock::now();
     AtomicFile f(dir, name);
     writer(r, f);
     info.files.emplace_back(name, f.commit());
-    output_times.add(0, name.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    std::fprintf(stderr, "%s %.3f\n", name.c_str(), output_times.rows().back().seconds);
   };
   const auto t0 = std::chrono::steady_clock::now();
   emit("neurons.csv", write_neurons);

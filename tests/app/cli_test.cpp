@@ -1,0 +1,126 @@
+// The command as a user meets it: exit codes, messages, files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+// Runs the built binary with arguments; stdout and stderr captured through files.
+Result run(const std::string& args, const test::TempDir& tmp) {
+  const auto out = tmp.path() / "stdout.txt", err = tmp.path() / "stderr.txt";
+  const std::string cmd = fmt::format("{} {} >{} 2>{}", AXG_BINARY, args, out.string(), err.string());
+  const int status = std::system(cmd.c_str());
+  Result r{WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), test::read_file(out),
+           test::read_file(err)};
+  return r;
+}
+
+std::string write(const test::TempDir& tmp, const std::string& name, const std::string& content) {
+  const auto p = tmp.path() / name;
+  std::ofstream(p, std::ios::binary) << content;
+  return p.string();
+}
+
+TEST(cli, DefaultRunWritesEveryFileAtomically) {
+  test::TempDir tmp;
+  const Result r = run(fmt::format("run --out {}/o --threads 2", tmp.path().string()), tmp);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("connected"), std::string::npos);
+  for (const char* f : {"neurons.csv", "connections.csv", "stats.csv", "bfs.csv", "graph.graphml", "timings.csv",
+                        "manifest.json"})
+    EXPECT_TRUE(std::filesystem::exists(tmp.path() / "o" / f)) << f;
+  for (const auto& e : std::filesystem::directory_iterator(tmp.path() / "o"))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  // The manifest's hashes are the files' hashes.
+  const auto m = nlohmann::json::parse(test::read_file(tmp.path() / "o" / "manifest.json"));
+  for (auto& [name, v] : m["files"].items())
+    EXPECT_EQ(v["sha256"].get<std::string>(), sha256_file(tmp.path() / "o" / name)) << name;
+  EXPECT_EQ(m["backend"], "reference");
+  EXPECT_EQ(m["threads"], 2);
+  EXPECT_EQ(m["scene"], scene_to_json(Scene::builtin_default()));
+}
+
+TEST(cli, SceneDefaultPrintsAValidScene) {
+  test::TempDir tmp;
+  const Result r = run("scene default", tmp);
+  ASSERT_EQ(r.code, 0);
+  EXPECT_EQ(scene_to_json(parse_scene(r.out, "stdout").scene), scene_to_json(Scene::builtin_default()));
+}
+
+TEST(cli, SeedFlagOverridesTheScene) {
+  test::TempDir tmp;
+  ASSERT_EQ(run(fmt::format("run -q --out {}/a --seed 42", tmp.path().string()), tmp).code, 0);
+  const auto m = nlohmann::json::parse(test::read_file(tmp.path() / "a" / "manifest.json"));
+  EXPECT_EQ(m["seed"], 42);
+  EXPECT_EQ(m["scene"]["seed"], 42);
+}
+
+struct BadRun {
+  std::string args;  // {tmp} is replaced by the temp dir
+  int code;
+  std::string expect;
+};
+
+class CliBadInput : public ::testing::TestWithParam<BadRun> {};
+
+TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
+  test::TempDir tmp;
+  write(tmp, "garbage.json", std::string("\x7f" "ELF\x02\x01\x01\0\0\0binary", 16));
+  write(tmp, "nested.json", std::string(100000, '[') + std::string(100000, ']'));
+  write(tmp, "huge.json", R"({"neurons": {"count": 1e15, "region": {"radius": 1e6}}})");
+  write(tmp, "negradius.json", R"({"neurons": {"soma_radius": -0.25}})");
+  write(tmp, "zerostep.json", R"({"axons": {"step_length": 0}})");
+  write(tmp, "dense.json",
+        R"({"neurons": {"count": 5000, "soma_radius": 0.5, "region": {"radius": 5}, "max_attempts": 50}})");
+  write(tmp, "impossible.json", R"({"neurons": {"count": 5000, "soma_radius": 0.9, "region": {"radius": 5}}})");
+  write(tmp, "file.txt", "x");
+  std::string args = GetParam().args;
+  for (std::size_t p; (p = args.find("{tmp}")) != std::string::npos;) args.replace(p, 5, tmp.path().string());
+  const Result r = run(args, tmp);
+  EXPECT_EQ(r.code, GetParam().code) << r.err;
+  EXPECT_NE(r.err.find(GetParam().expect), std::string::npos) << "stderr: " << r.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    cli, CliBadInput,
+    ::testing::Values(
+        BadRun{"run {tmp}/missing.json --out {tmp}/o", 2, "cannot open scene file"},
+        BadRun{"run {tmp} --out {tmp}/o", 2, "is a directory"},
+        BadRun{"run {tmp}/garbage.json --out {tmp}/o", 2, "not valid JSON"},
+        BadRun{"run {tmp}/nested.json --out {tmp}/o", 2, "nested deeper"},
+        BadRun{"run {tmp}/huge.json --out {tmp}/o", 3, "needs an estimated"},
+        BadRun{"run {tmp}/negradius.json --out {tmp}/o", 2, "neurons.soma_radius = -0.25: must be > 0"},
+        BadRun{"run {tmp}/zerostep.json --out {tmp}/o", 2, "axons.step_length = 0: must be > 0"},
+        BadRun{"run {tmp}/dense.json --out {tmp}/o", 3, "packing fraction"},
+        BadRun{"run {tmp}/impossible.json --out {tmp}/o", 3, "exceeds the densest packing"},
+        BadRun{"run --out {tmp}/file.txt", 2, "exists and is not a directory"},
+        BadRun{"run --seed -3 --out {tmp}/o", 2, "--seed -3: must be an unsigned 64-bit integer"},
+        BadRun{"run --seed 99999999999999999999 --out {tmp}/o", 2, "must be an unsigned 64-bit integer"},
+        BadRun{"run --threads -1 --out {tmp}/o", 2, "--threads"},
+        BadRun{"run --backend opencl --out {tmp}/o", 2, "--backend"},
+        BadRun{"frobnicate", 2, "unknown command 'frobnicate'"}),
+    [](const auto& info) { return std::to_string(info.index); });
+
+#if !AXG_TEST_HAVE_CUDA
+TEST(cli, CudaBackendNotBuiltExitsTwo) {
+  test::TempDir tmp;
+  const Result r = run(fmt::format("run --backend cuda --out {}/o", tmp.path().string()), tmp);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("not built"), std::string::npos) << r.err;
+}
+#endif
+
+}  // namespace
+}  // namespace axg

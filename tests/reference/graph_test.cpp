@@ -1,0 +1,111 @@
+// Our CSR, BFS and components against Boost.Graph on random graphs.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/breadth_first_search.hpp>
+#include <boost/graph/connected_components.hpp>
+
+#include <algorithm>
+#include <set>
+
+#include "axonguide/graph.hpp"
+#include "axonguide/threads.hpp"
+
+namespace axg {
+namespace {
+
+struct Edges {
+  std::size_t n;
+  std::vector<std::uint32_t> src, dst;
+};
+
+rc::Gen<Edges> gen_graph() {
+  return rc::gen::exec([] {
+    Edges e;
+    e.n = *rc::gen::inRange<std::size_t>(1, 300);
+    const std::size_t m = *rc::gen::inRange<std::size_t>(0, 3 * e.n);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (std::size_t k = 0; k < m; ++k)
+      edges.insert({*rc::gen::inRange<std::uint32_t>(0, static_cast<std::uint32_t>(e.n)),
+                    *rc::gen::inRange<std::uint32_t>(0, static_cast<std::uint32_t>(e.n))});
+    for (auto [s, t] : edges) e.src.push_back(s), e.dst.push_back(t);
+    return e;
+  });
+}
+
+using BoostGraph = boost::adjacency_list<boost::vecS, boost::vecS, boost::directedS>;
+
+RC_GTEST_PROP(graph, BfsLevelsEqualBoostAndParentsFollowTheRule, ()) {
+  const Edges e = *gen_graph();
+  const Csr g = csr_from_edges(e.n, e.src, e.dst);
+  const Csr in = transpose(g);
+  const std::uint32_t source = *rc::gen::inRange<std::uint32_t>(0, static_cast<std::uint32_t>(e.n));
+  const int threads = *rc::gen::element(1, 2, 7);
+  const BfsResult ours = with_threads(threads, [&] { return bfs(g, in, {source}); });
+
+  BoostGraph bg(e.n);
+  for (std::size_t k = 0; k < e.src.size(); ++k) boost::add_edge(e.src[k], e.dst[k], bg);
+  std::vector<int> level(e.n, -1);
+  level[source] = 0;
+  boost::breadth_first_search(bg, source,
+                              boost::visitor(boost::make_bfs_visitor(
+                                  boost::record_distances(level.data(), boost::on_tree_edge()))));
+  for (std::size_t v = 0; v < e.n; ++v) {
+    RC_ASSERT(ours.level[v] == level[v]);
+    if (ours.level[v] <= 0) {
+      RC_ASSERT(ours.parent[v] == -1);
+      continue;
+    }
+    // parent = the lowest id among in-neighbours one level up
+    std::int64_t expect = -1;
+    for (std::size_t k = 0; k < e.src.size(); ++k)
+      if (e.dst[k] == v && ours.level[e.src[k]] == ours.level[v] - 1)
+        expect = expect == -1 ? e.src[k] : std::min<std::int64_t>(expect, e.src[k]);
+    RC_ASSERT(ours.parent[v] == expect);
+  }
+}
+
+RC_GTEST_PROP(graph, ComponentsEqualBoostsPartitionLabelledByLowestId, ()) {
+  const Edges e = *gen_graph();
+  const Csr g = csr_from_edges(e.n, e.src, e.dst);
+  const std::vector<std::uint32_t> comp = components(undirected(g));
+
+  boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS> ug(e.n);
+  for (std::size_t k = 0; k < e.src.size(); ++k) boost::add_edge(e.src[k], e.dst[k], ug);
+  std::vector<int> bc(e.n);
+  boost::connected_components(ug, bc.data());
+  std::map<int, std::uint32_t> lowest;
+  for (std::size_t v = 0; v < e.n; ++v)
+    if (!lowest.count(bc[v])) lowest[bc[v]] = static_cast<std::uint32_t>(v);
+  for (std::size_t v = 0; v < e.n; ++v) RC_ASSERT(comp[v] == lowest[bc[v]]);
+}
+
+TEST(graph, LargeFrontierTakesTheParallelPathAndAgrees) {
+  // A star: one source with 50000 children, each with one child -> frontier of 50000.
+  const std::uint32_t k = 50000;
+  std::vector<std::uint32_t> src, dst;
+  for (std::uint32_t i = 1; i <= k; ++i) src.push_back(0), dst.push_back(i);
+  for (std::uint32_t i = 1; i <= k; ++i) src.push_back(i), dst.push_back(k + 1 + (i - 1) / 2);
+  const std::size_t n = k + 1 + k / 2;
+  const Csr g = csr_from_edges(n, src, dst);
+  const BfsResult a = with_threads(1, [&] { return bfs(g, transpose(g), {0}); });
+  const BfsResult b = with_threads(7, [&] { return bfs(g, transpose(g), {0}); });
+  EXPECT_EQ(a.level, b.level);
+  EXPECT_EQ(a.parent, b.parent);
+  EXPECT_EQ(a.max_level, 2);
+  EXPECT_EQ(a.parent[k + 1], 1);  // children 1 and 2 both reach k+1: the lowest wins
+}
+
+TEST(graph, MultipleSourcesAndUnreached) {
+  const Csr g = csr_from_edges(5, {0, 1, 3}, {1, 2, 4});
+  const BfsResult r = bfs(g, transpose(g), {0, 3});
+  EXPECT_EQ(r.level, (std::vector<std::int32_t>{0, 1, 2, 0, 1}));
+  EXPECT_EQ(r.parent, (std::vector<std::int64_t>{-1, 0, 1, -1, 3}));
+  const BfsResult none = bfs(csr_from_edges(3, {}, {}), csr_from_edges(3, {}, {}), {1});
+  EXPECT_EQ(none.level, (std::vector<std::int32_t>{-1, 0, -1}));
+  EXPECT_EQ(none.reached, 1u);
+}
+
+}  // namespace
+}  // namespace axg

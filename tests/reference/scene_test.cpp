@@ -1,0 +1,121 @@
+// Scenes: defaults, the canonical form, and a table of bad scenes, each rejected with a
+// message that names the key path, the value and what is allowed.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include "axonguide/error.hpp"
+#include "axonguide/scene.hpp"
+
+namespace axg {
+namespace {
+
+TEST(scene, EmptyObjectIsAllDefaults) {
+  const ParseResult r = parse_scene("{}", "test");
+  EXPECT_EQ(scene_to_json(r.scene), scene_to_json(Scene{}));
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(scene, CanonicalFormRoundTrips) {
+  const Scene d = Scene::builtin_default();
+  const std::string text = scene_to_json(d).dump();
+  EXPECT_EQ(scene_to_json(parse_scene(text, "test").scene).dump(), text);
+}
+
+TEST(scene, SeedIsExactTo64Bits) {
+  const ParseResult r = parse_scene(R"({"seed": 18446744073709551615})", "test");
+  EXPECT_EQ(r.scene.seed, 18446744073709551615ull);
+}
+
+TEST(scene, IntegralFloatsAreIntegers) {
+  EXPECT_EQ(parse_scene(R"({"neurons": {"count": 1e3}})", "t").scene.neurons.count, 1000u);
+}
+
+TEST(scene, DirectGuidanceWarnsThatCuesAreIgnored) {
+  const ParseResult r = parse_scene(R"({"guidance": {"model": "direct"}, "cues": {"field": "grid"}})", "t");
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("ignored"), std::string::npos);
+}
+
+struct Bad {
+  const char* text;
+  const char* expect;  // a substring of the message
+};
+
+class BadScene : public ::testing::TestWithParam<Bad> {};
+
+TEST_P(BadScene, IsRejectedWithAClearMessage) {
+  try {
+    parse_scene(GetParam().text, "scene.json");
+    FAIL() << "accepted: " << GetParam().text;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(GetParam().expect), std::string::npos)
+        << "message: " << e.what() << "\nexpected to contain: " << GetParam().expect;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    scene, BadScene,
+    ::testing::Values(
+        Bad{"", "not valid JSON"}, Bad{"{", "not valid JSON"}, Bad{"[1,2]", "must be a JSON object"},
+        Bad{"\x01\x02\xff garbage", "not valid JSON"}, Bad{"NaN", "not valid JSON"},
+        Bad{R"({"dt": 1e999})", "number overflow"},
+        Bad{R"({"stepz": 3})", "unknown key stepz (allowed here: seed, steps, dt"},
+        Bad{R"({"neurons": {"cont": 3}})", "unknown key neurons.cont"},
+        Bad{R"({"neurons": {"count": 0}})", "neurons.count = 0: must be an integer in [1, "},
+        Bad{R"({"neurons": {"count": -5}})", "neurons.count = -5: must be an integer"},
+        Bad{R"({"neurons": {"count": 2.5}})", "neurons.count = 2.5: must be an integer"},
+        Bad{R"({"neurons": {"count": "10"}})", R"(neurons.count = "10": must be an integer)"},
+        Bad{R"({"neurons": {"soma_radius": 0}})", "neurons.soma_radius = 0: must be > 0"},
+        Bad{R"({"neurons": {"soma_radius": -1}})", "neurons.soma_radius = -1: must be > 0"},
+        Bad{R"({"neurons": {"region": {"radius": -2}}})", "neurons.region.radius = -2: must be > 0"},
+        Bad{R"({"neurons": {"region": {"shape": "cube"}}})",
+            R"(neurons.region.shape = "cube": must be one of "ball", "sphere", "box")"},
+        Bad{R"({"neurons": {"sampler": "uniform"}})", R"(must be one of "rejection", "normal", "trig", "coordinate")"},
+        Bad{R"({"neurons": {"overlap": true}})", R"(neurons.overlap = true: must be one of "reject", "allow")"},
+        Bad{R"({"neurons": {"max_attempts": 0}})", "neurons.max_attempts = 0"},
+        Bad{R"({"neurons": {"soma_radius": 3, "region": {"radius": 2}}})", "somas must fit in the region"},
+        Bad{R"({"axons": {"step_length": 0}})", "axons.step_length = 0: must be > 0"},
+        Bad{R"({"axons": {"step_length": -0.1}})", "axons.step_length = -0.1: must be > 0"},
+        Bad{R"({"axons": {"contact_distance": -0.01}})", "axons.contact_distance = -0.01: must be >= 0"},
+        Bad{R"({"axons": {"contact": "tip"}})", R"(axons.contact = "tip": must be one of "swept", "endpoint")"},
+        Bad{R"({"axons": {"bounds_radius": 0}})", "axons.bounds_radius = 0: must be > 0"},
+        Bad{R"({"steps": -1})", "steps = -1: must be an integer"},
+        Bad{R"({"dt": 0})", "dt = 0: must be > 0"},
+        Bad{R"({"seed": 18446744073709551616})", "seed = 1.8446744073709552e+19"},
+        Bad{R"({"guidance": {"model": "magic"}})", R"(guidance.model = "magic")"},
+        Bad{R"({"guidance": {"turn_angle": 4}})", "guidance.turn_angle = 4: must be in [0, 3.14159"},
+        Bad{R"({"cues": {"sources": [{"diffusion": -1}]}})", "cues.sources[0].diffusion = -1: must be > 0"},
+        Bad{R"({"cues": {"sources": [{"decay": -0.1}]}})", "cues.sources[0].decay = -0.1: must be >= 0"},
+        Bad{R"({"cues": {"sources": [{"kd": -1}]}})", "cues.sources[0].kd = -1: must be > 0"},
+        Bad{R"({"cues": {"sources": [{"min_concentration": 2, "max_concentration": 1}]}})",
+            "min must be <= max"},
+        Bad{R"({"cues": {"sources": [{"position": [0, 0, 99]}]}})",
+            "cues.sources[0].position = [0, 0, 99]: must lie inside the domain"},
+        Bad{R"({"cues": {"sources": [{"position": [0, 0]}]}})", "must be [x, y, z] or null"},
+        Bad{R"({"cues": {"sources": {"kind": "attractant"}}})", "cues.sources"},
+        Bad{R"({"cues": {"random_sources": {"attractant_fraction": 1.5}}})",
+            "cues.random_sources.attractant_fraction = 1.5: must be in [0, 1]"},
+        Bad{R"({"cues": {"grid": {"scheme": "crank"}}})", R"(cues.grid.scheme = "crank")"},
+        Bad{R"({"cues": {"grid": {"spacing": 0}}})", "cues.grid.spacing = 0: must be > 0"},
+        Bad{R"({"analysis": {"bfs_sources": [5000]}})", "analysis.bfs_sources[0] = 5000: must be a neuron id below"},
+        Bad{R"({"output": {"stats_every": 0}})", "output.stats_every = 0"},
+        Bad{R"({"output": {"paths": "yes"}})", R"(output.paths = "yes": must be true or false)"},
+        Bad{"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
+            "nested deeper than 32 levels"}),
+    [](const auto& info) { return std::to_string(info.index); });
+
+// Any value the parser accepts must survive the canonical form unchanged.
+RC_GTEST_PROP(scene, AcceptedValuesRoundTrip, ()) {
+  Scene s;
+  s.seed = *rc::gen::arbitrary<std::uint64_t>();
+  s.steps = *rc::gen::inRange<std::uint32_t>(0, 1000000);
+  s.neurons.count = *rc::gen::inRange<std::uint64_t>(1, 1000000);
+  s.neurons.radius = *rc::gen::inRange(1, 100000) / 7.0;
+  s.neurons.soma_radius = s.neurons.radius / *rc::gen::inRange(2, 1000);
+  s.axons.step_length = *rc::gen::inRange(1, 100000) / 3.0;
+  const std::string text = scene_to_json(s).dump();
+  RC_ASSERT(scene_to_json(parse_scene(text, "t").scene).dump() == text);
+}
+
+}  // namespace
+}  // namespace axg

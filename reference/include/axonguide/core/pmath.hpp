@@ -549,13 +549,17 @@ AXG_HDI void sincos_turns(double u, double* s, double* c) {
 
   const double sn = detail::kernel_sin(x, tail, true);
   const double cs = detail::kernel_cos(x, tail);
-  // 0.0 - v rather than -v, so that the exact zeros at quarter turns come out as +0.
-  switch (quadrant & 3) {
-    case 0: *s = sn; *c = cs; break;
-    case 1: *s = cs; *c = 0.0 - sn; break;
-    case 2: *s = 0.0 - sn; *c = 0.0 - cs; break;
-    default: *s = 0.0 - cs; *c = sn; break;
-  }
+  // Quadrant fix-up without branches (the quadrant of a random angle is unpredictable):
+  // odd quadrants swap sin and cos; signs follow the quadrant. 0.0 - v rather than -v,
+  // so that the exact zeros at quarter turns come out as +0.
+  const std::uint64_t swap = 0 - static_cast<std::uint64_t>(quadrant & 1);
+  const std::uint64_t neg_s = 0 - static_cast<std::uint64_t>((quadrant >> 1) & 1);
+  const std::uint64_t neg_c = 0 - static_cast<std::uint64_t>(((quadrant + 1) >> 1) & 1);
+  const std::uint64_t a = (bits_of(cs) & swap) | (bits_of(sn) & ~swap);
+  const std::uint64_t b = (bits_of(sn) & swap) | (bits_of(cs) & ~swap);
+  const std::uint64_t na = bits_of(0.0 - double_of(a)), nb = bits_of(0.0 - double_of(b));
+  *s = double_of((na & neg_s) | (a & ~neg_s));
+  *c = double_of((nb & neg_c) | (b & ~neg_c));
 }
 
 }  // namespace axg::core::pm

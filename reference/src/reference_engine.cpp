@@ -17,6 +17,19 @@ namespace {
 
 using core::AxonStatus;
 
+template <class T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
+// out[ids[k]] = in[k]; frees `in`.
+template <class T>
+void scatter(const std::vector<std::uint32_t>& ids, std::vector<T>& in, std::vector<T>& out) {
+  out.resize(in.size());
+  tbb::parallel_for(std::size_t{0}, in.size(), [&](std::size_t k) { out[ids[k]] = in[k]; });
+  release(in);
+}
+
 // Axon state is kept in "slot" order: slot k holds neuron somas_.ids[k], the order of the
 // soma grid. Growing axons are visited in that order, so neighbouring slots look up
 // neighbouring cells and the state arrays are read sequentially. Slot order changes
@@ -28,9 +41,10 @@ class ReferenceEngine final : public Engine {
     somas_ = build_cell_grid(soma_grid_geometry(scene), placement.soma);
     const std::size_t n = placement.soma.size();
     state_.resize(n);
+    heading_.resize(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
       const std::uint32_t i = somas_.ids[k];
-      state_.heading[k] = placement.heading[i];
+      heading_[k] = placement.heading[i];
       state_.tip[k] = axon_start(placement.soma[i], placement.heading[i], scene);
     });
     active_.resize(n);
@@ -56,22 +70,23 @@ class ReferenceEngine final : public Engine {
     tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t k) { out[somas_.ids[k]] = state_.tip[k]; });
   }
 
+  // Scatters slot order back to id order one array at a time, releasing each engine
+  // array as soon as it is copied (this is the run's memory peak).
   void finish(NeuronState& out) override {
     for (std::uint32_t k : active_) state_.status[k] = AxonStatus::kMaxSteps;
-    out.resize(state_.size());
-    tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t k) {
-      const std::uint32_t i = somas_.ids[k];
-      out.tip[i] = state_.tip[k];
-      out.heading[i] = state_.heading[k];
-      out.length[i] = state_.length[k];
-      out.status[i] = state_.status[k];
-      out.steps[i] = state_.steps[k];
-      out.target[i] = state_.target[k];
-    });
+    release(active_);
+    release(heading_);
+    const std::vector<std::uint32_t>& ids = somas_.ids;
+    scatter(ids, state_.tip, out.tip);
+    scatter(ids, state_.length, out.length);
+    scatter(ids, state_.status, out.status);
+    scatter(ids, state_.steps, out.steps);
+    scatter(ids, state_.target, out.target);
   }
 
   std::size_t bytes() const override {
-    return somas_.bytes() + active_.capacity() * 4 + state_.size() * (reference_bytes_per_neuron() - 36);
+    return somas_.bytes() + active_.capacity() * 4 + heading_.capacity() * sizeof(core::Vec3) +
+           state_.size() * (sizeof(core::Vec3) + 8 + 1 + 4 + 4);
   }
 
  private:
@@ -86,8 +101,7 @@ class ReferenceEngine final : public Engine {
         [&](const tbb::blocked_range<std::size_t>& r, Counts acc) {
           for (std::size_t a = r.begin(); a != r.end(); ++a) {
             const std::uint32_t k = active_[a];
-            const core::AxonStep s =
-                core::grow_axon(somas_.ids[k], state_.tip[k], state_.heading[k], params_, somas);
+            const core::AxonStep s = core::grow_axon(somas_.ids[k], state_.tip[k], heading_[k], params_, somas);
             state_.tip[k] = s.tip;
             state_.length[k] += s.advanced;
             state_.steps[k] = step;
@@ -114,6 +128,7 @@ class ReferenceEngine final : public Engine {
   core::GrowthParams params_;
   CellGrid somas_;
   NeuronState state_;  // in slot order
+  std::vector<core::Vec3> heading_;
   std::vector<std::uint32_t> active_;
   StepStats stats_;
 };

@@ -376,7 +376,10 @@ ParseResult parse_scene(const std::string& text, const std::string& origin) {
   }
   ParseResult result;
   read_scene(root, result.scene);
-  check_consistency(result.scene, result.warnings, root.is_object() && root.contains("cues"));
+  // Warn about ignored cues only when the user set some (the canonical form always has them).
+  const bool cues_set = root.is_object() && root.contains("cues") &&
+                        scene_to_json(result.scene)["cues"] != scene_to_json(Scene{})["cues"];
+  check_consistency(result.scene, result.warnings, cues_set);
   return result;
 }
 

@@ -176,6 +176,7 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   }
   phases["output"] = output_seconds;
   manifest["timings_seconds"] = phases;
+  manifest["peak_memory_bytes"] = peak_rss_bytes();
   manifest["warnings"] = warnings;
   json files = json::object();
   for (const auto& [name, hash] : info.files) files[name] = {{"sha256", hash}};

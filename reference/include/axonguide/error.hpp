@@ -33,4 +33,7 @@ void check_memory_estimate(std::uint64_t bytes, const std::string& what);
 
 std::string human_bytes(double bytes);
 
+// Peak resident memory of this process so far (VmHWM; 0 when unknown).
+std::uint64_t peak_rss_bytes();
+
 }  // namespace axg

@@ -22,7 +22,6 @@ struct StepStats {
 // Per-neuron results, host side, structure of arrays indexed by neuron id.
 struct NeuronState {
   std::vector<core::Vec3> tip;          // LU
-  std::vector<core::Vec3> heading;      // unit
   std::vector<double> length;           // LU grown
   std::vector<core::AxonStatus> status;
   std::vector<std::uint32_t> steps;     // steps grown (the step of contact or exit)
@@ -30,7 +29,6 @@ struct NeuronState {
 
   void resize(std::size_t n) {
     tip.resize(n);
-    heading.resize(n);
     length.assign(n, 0.0);
     status.assign(n, core::AxonStatus::kGrowing);
     steps.assign(n, 0);

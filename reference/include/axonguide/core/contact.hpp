@@ -57,6 +57,11 @@ AXG_HDI Contact find_contact(std::uint32_t self, Vec3 a, Vec3 s, double r, doubl
   const int z0 = cell_coord(min3(a.z, b.z) - r, g.origin.z, g.cell, g.nz);
   const int z1 = cell_coord(max3(a.z, b.z) + r, g.origin.z, g.cell, g.nz);
   Contact best{2.0, kNoNeuron};
+  // A soma farther than |s| + r from the start cannot be reached: most candidates are
+  // rejected with one distance. (Exact: if |a - c| > |s| + r then every point of the
+  // segment is farther than r; the margin covers rounding.)
+  const double reach = norm(s) + r;
+  const double reach2 = reach * reach * (1.0 + 1e-12);
   for (int z = z0; z <= z1; ++z) {
     for (int y = y0; y <= y1; ++y) {
       const std::uint32_t row = cell_index(x0, y, z, g.nx, g.ny);
@@ -64,7 +69,7 @@ AXG_HDI Contact find_contact(std::uint32_t self, Vec3 a, Vec3 s, double r, doubl
       const std::uint32_t end = g.cell_start[row + static_cast<std::uint32_t>(x1 - x0) + 1];
       for (std::uint32_t k = begin; k < end; ++k) {
         const std::uint32_t j = g.ids[k];
-        if (j == self) continue;
+        if (j == self || norm2(g.pos[k] - a) > reach2) continue;
         double t;
         bool hit;
         if (rule == ContactRule::kSwept) {

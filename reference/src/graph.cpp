@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -54,50 +55,136 @@ Csr undirected(const Csr& g) {
   return u;
 }
 
+// Level-synchronous and direction-optimizing (Beamer et al. 2012): a level is expanded
+// top-down from the frontier's out-edges while the frontier is small, and bottom-up
+// (every unvisited vertex scans its in-edges for a frontier vertex) while it is large.
+// Levels are unique whichever way a level is expanded. Parents follow the lowest-id rule:
+// bottom-up scans ascending in-lists and stops at the first frontier vertex, which is the
+// lowest; top-down keeps the minimum over every frontier vertex that reaches a vertex in
+// this level (an integer minimum, so the order of the visits does not matter).
+namespace {
+
+// parent = min(parent, u) (unset is kNoParent, above every id); lock-free, so concurrent
+// visits of one vertex leave the same minimum whatever their order.
+void atomic_min(std::uint32_t& slot, std::uint32_t u) {
+  std::atomic_ref<std::uint32_t> p(slot);
+  std::uint32_t cur = p.load(std::memory_order_relaxed);
+  while (u < cur && !p.compare_exchange_weak(cur, u, std::memory_order_relaxed)) {
+  }
+}
+
+}  // namespace
+
 BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sources) {
   const std::size_t n = g.vertices();
   BfsResult r;
   r.level.assign(n, -1);
-  r.parent.assign(n, -1);
-  std::vector<std::uint32_t> frontier;
+  r.parent.assign(n, kNoParent);
+  auto degree = [&g](std::uint32_t u) { return static_cast<double>(g.offsets[u + 1] - g.offsets[u]); };
+
+  std::uint32_t max_degree = 0;
+  for (std::size_t u = 0; u < n; ++u) max_degree = std::max(max_degree, g.offsets[u + 1] - g.offsets[u]);
+
+  // The frontier of the current level and the out-edges leaving it (counted only when
+  // the bound frontier size x max degree leaves the choice of expansion open).
+  std::vector<std::uint32_t> frontier, next;
+  frontier.reserve(sources.size());
   for (std::uint32_t s : sources)
     if (r.level[s] == -1) {
       r.level[s] = 0;
       frontier.push_back(s);
     }
+  double frontier_edges = 0;
+  bool counted = false;
+  struct alignas(64) Found {  // one cache line per thread: no false sharing
+    std::vector<std::uint32_t> vertices;
+    double edges = 0;
+  };
+  tbb::enumerable_thread_specific<Found> local;
+  auto gather = [&] {
+    for (auto& l : local) {
+      next.insert(next.end(), l.vertices.begin(), l.vertices.end());
+      l.vertices.clear();
+      frontier_edges += l.edges;
+      l.edges = 0;
+    }
+  };
+  // Below this a level is cheaper on one thread than the cost of spreading it.
+  constexpr double kParallelEdges = 1 << 17;
+  constexpr double kBottomUpFactor = 4.0;
   std::int32_t level = 0;
   std::size_t reached = frontier.size();
-  // Levels are unique whatever order a level's frontier is expanded in; a vertex is
-  // claimed by whichever expansion reaches it first (integer compare-and-swap), and
-  // parents are fixed afterwards by the lowest-id rule.
-  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> local;
-  constexpr std::size_t kParallelFrontier = 1u << 14;
+  double unexplored = static_cast<double>(g.edges());
   while (!frontier.empty()) {
-    std::vector<std::uint32_t> next;
-    if (frontier.size() < kParallelFrontier) {
+    const double bound = static_cast<double>(frontier.size()) * max_degree;
+    if (!counted) {
+      frontier_edges = bound;
+      if (bound >= kParallelEdges || bound * kBottomUpFactor > static_cast<double>(n)) {
+        frontier_edges = 0;
+        for (std::uint32_t u : frontier) frontier_edges += degree(u);
+      }
+    }
+    unexplored -= frontier_edges;
+    // Cost model per level: top-down touches the frontier's out-edges; bottom-up scans
+    // every vertex and the in-edges of the unvisited ones (stopping early, hence the
+    // factor). Bottom-up wins only on dense levels, never on sparse axon networks.
+    const bool bottom_up = static_cast<double>(n) > kParallelEdges &&
+                           frontier_edges * kBottomUpFactor > static_cast<double>(n) + unexplored;
+    const bool parallel = frontier_edges >= kParallelEdges;
+    next.clear();
+    next.reserve(static_cast<std::size_t>(std::min(bound, static_cast<double>(n - reached))));
+    frontier_edges = 0;
+    counted = parallel || bottom_up;  // the parallel expansions count as they go
+    if (bottom_up) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& b) {
+        Found& out = local.local();
+        for (std::size_t v = b.begin(); v != b.end(); ++v) {
+          if (r.level[v] != -1) continue;
+          for (std::uint32_t k = in.offsets[v]; k < in.offsets[v + 1]; ++k)
+            if (r.level[in.targets[k]] == level) {
+              r.level[v] = level + 1;  // != level, so other scans of this pass are unaffected
+              r.parent[v] = in.targets[k];
+              out.vertices.push_back(static_cast<std::uint32_t>(v));
+              out.edges += degree(static_cast<std::uint32_t>(v));
+              break;
+            }
+        }
+      });
+      gather();
+    } else if (!parallel) {
       for (std::uint32_t u : frontier)
         for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
           const std::uint32_t v = g.targets[k];
           if (r.level[v] == -1) {
             r.level[v] = level + 1;
+            r.parent[v] = u;
             next.push_back(v);
+          } else if (r.level[v] == level + 1 && u < r.parent[v]) {
+            r.parent[v] = u;
           }
         }
     } else {
-      for (auto& l : local) l.clear();
-      tbb::parallel_for(std::size_t{0}, frontier.size(), [&](std::size_t f) {
-        const std::uint32_t u = frontier[f];
-        auto& out = local.local();
-        for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
-          const std::uint32_t v = g.targets[k];
-          std::atomic_ref<std::int32_t> lv(r.level[v]);
-          std::int32_t expected = -1;
-          if (lv.load(std::memory_order_relaxed) == -1 &&
-              lv.compare_exchange_strong(expected, level + 1, std::memory_order_relaxed))
-            out.push_back(v);
-        }
-      });
-      for (auto& l : local) next.insert(next.end(), l.begin(), l.end());
+      // A vertex is claimed by whichever expansion reaches it first (integer
+      // compare-and-swap); the value it gets is the same either way.
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 1024),
+                        [&](const tbb::blocked_range<std::size_t>& b) {
+                          Found& out = local.local();
+                          for (std::size_t f = b.begin(); f != b.end(); ++f) {
+                            const std::uint32_t u = frontier[f];
+                            for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
+                              const std::uint32_t v = g.targets[k];
+                              std::atomic_ref<std::int32_t> lv(r.level[v]);
+                              std::int32_t expected = -1;
+                              if (lv.load(std::memory_order_relaxed) == -1 &&
+                                  lv.compare_exchange_strong(expected, level + 1, std::memory_order_relaxed)) {
+                                out.vertices.push_back(v);
+                                out.edges += degree(v);
+                              }
+                              if (lv.load(std::memory_order_relaxed) == level + 1) atomic_min(r.parent[v], u);
+                            }
+                          }
+                        });
+      gather();
     }
     reached += next.size();
     if (!next.empty()) ++level;
@@ -105,16 +192,6 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
   }
   r.max_level = reached == 0 ? -1 : level;
   r.reached = reached;
-  // Parent: the lowest in-neighbour one level up (in-lists are ascending).
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
-    const std::int32_t lv = r.level[v];
-    if (lv <= 0) return;
-    for (std::uint32_t k = in.offsets[v]; k < in.offsets[v + 1]; ++k)
-      if (r.level[in.targets[k]] == lv - 1) {
-        r.parent[v] = in.targets[k];
-        return;
-      }
-  });
   return r;
 }
 

@@ -98,7 +98,7 @@ void write_bfs(const RunResult& r, AtomicFile& f) {
   write_rows(f, r.neurons.size(), [&](std::size_t v, fmt::memory_buffer& b) {
     auto out = std::back_inserter(b);
     fmt::format_to(out, "{}", v);
-    if (has_bfs) fmt::format_to(out, ",{},{}", g.bfs->level[v], g.bfs->parent[v]);
+    if (has_bfs) fmt::format_to(out, ",{},{}", g.bfs->level[v], signed_id(g.bfs->parent[v]));
     if (has_comp) fmt::format_to(out, ",{}", g.component[v]);
     fmt::format_to(out, "\n");
   });

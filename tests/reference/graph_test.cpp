@@ -54,14 +54,13 @@ RC_GTEST_PROP(graph, BfsLevelsEqualBoostAndParentsFollowTheRule, ()) {
   for (std::size_t v = 0; v < e.n; ++v) {
     RC_ASSERT(ours.level[v] == level[v]);
     if (ours.level[v] <= 0) {
-      RC_ASSERT(ours.parent[v] == -1);
+      RC_ASSERT(ours.parent[v] == kNoParent);
       continue;
     }
     // parent = the lowest id among in-neighbours one level up
-    std::int64_t expect = -1;
+    std::uint32_t expect = kNoParent;
     for (std::size_t k = 0; k < e.src.size(); ++k)
-      if (e.dst[k] == v && ours.level[e.src[k]] == ours.level[v] - 1)
-        expect = expect == -1 ? e.src[k] : std::min<std::int64_t>(expect, e.src[k]);
+      if (e.dst[k] == v && ours.level[e.src[k]] == ours.level[v] - 1) expect = std::min(expect, e.src[k]);
     RC_ASSERT(ours.parent[v] == expect);
   }
 }
@@ -94,14 +93,14 @@ TEST(graph, LargeFrontierTakesTheParallelPathAndAgrees) {
   EXPECT_EQ(a.level, b.level);
   EXPECT_EQ(a.parent, b.parent);
   EXPECT_EQ(a.max_level, 2);
-  EXPECT_EQ(a.parent[k + 1], 1);  // children 1 and 2 both reach k+1: the lowest wins
+  EXPECT_EQ(a.parent[k + 1], 1u);  // children 1 and 2 both reach k+1: the lowest wins
 }
 
 TEST(graph, MultipleSourcesAndUnreached) {
   const Csr g = csr_from_edges(5, {0, 1, 3}, {1, 2, 4});
   const BfsResult r = bfs(g, transpose(g), {0, 3});
   EXPECT_EQ(r.level, (std::vector<std::int32_t>{0, 1, 2, 0, 1}));
-  EXPECT_EQ(r.parent, (std::vector<std::int64_t>{-1, 0, 1, -1, 3}));
+  EXPECT_EQ(r.parent, (std::vector<std::uint32_t>{kNoParent, 0, 1, kNoParent, 3}));
   const BfsResult none = bfs(csr_from_edges(3, {}, {}), csr_from_edges(3, {}, {}), {1});
   EXPECT_EQ(none.level, (std::vector<std::int32_t>{-1, 0, -1}));
   EXPECT_EQ(none.reached, 1u);

@@ -24,9 +24,11 @@ Csr transpose(const Csr& g);
 // Both directions, each list ascending, duplicates removed.
 Csr undirected(const Csr& g);
 
+inline constexpr std::uint32_t kNoParent = 0xffffffffu;
+
 struct BfsResult {
   std::vector<std::int32_t> level;   // -1 unreached
-  std::vector<std::int64_t> parent;  // -1 for sources and unreached
+  std::vector<std::uint32_t> parent;  // kNoParent for sources and unreached (written as -1)
   std::int32_t max_level = -1;
   std::size_t reached = 0;
 };

@@ -14,7 +14,10 @@ Csr csr_from_edges(std::size_t vertices, const std::vector<std::uint32_t>& sourc
   Csr g;
   g.offsets.assign(vertices + 1, 0);
   for (std::uint32_t s : source) ++g.offsets[s + 1];
-  for (std::size_t v = 0; v < vertices; ++v) g.offsets[v + 1] += g.offsets[v];
+  for (std::size_t v = 0; v < vertices; ++v) {
+    g.max_degree = std::max(g.max_degree, g.offsets[v + 1]);
+    g.offsets[v + 1] += g.offsets[v];
+  }
   g.targets.resize(source.size());
   std::vector<std::uint32_t> next(g.offsets.begin(), g.offsets.end() - 1);
   for (std::size_t k = 0; k < source.size(); ++k) g.targets[next[source[k]]++] = target[k];
@@ -51,30 +54,19 @@ Csr undirected(const Csr& g) {
     merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
     u.targets.insert(u.targets.end(), merged.begin(), merged.end());
     u.offsets[v + 1] = static_cast<std::uint32_t>(u.targets.size());
+    u.max_degree = std::max(u.max_degree, static_cast<std::uint32_t>(merged.size()));
   }
   return u;
 }
 
 // Level-synchronous and direction-optimizing (Beamer et al. 2012): a level is expanded
-// top-down from the frontier's out-edges while the frontier is small, and bottom-up
-// (every unvisited vertex scans its in-edges for a frontier vertex) while it is large.
+// top-down from the frontier's out-edges (one thread: on sparse levels the random writes
+// of a parallel expansion cost more than they save, measured), or bottom-up in parallel
+// (every unvisited vertex scans its in-edges for a frontier vertex) when it is dense.
 // Levels are unique whichever way a level is expanded. Parents follow the lowest-id rule:
 // bottom-up scans ascending in-lists and stops at the first frontier vertex, which is the
 // lowest; top-down keeps the minimum over every frontier vertex that reaches a vertex in
 // this level (an integer minimum, so the order of the visits does not matter).
-namespace {
-
-// parent = min(parent, u) (unset is kNoParent, above every id); lock-free, so concurrent
-// visits of one vertex leave the same minimum whatever their order.
-void atomic_min(std::uint32_t& slot, std::uint32_t u) {
-  std::atomic_ref<std::uint32_t> p(slot);
-  std::uint32_t cur = p.load(std::memory_order_relaxed);
-  while (u < cur && !p.compare_exchange_weak(cur, u, std::memory_order_relaxed)) {
-  }
-}
-
-}  // namespace
-
 BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sources) {
   const std::size_t n = g.vertices();
   BfsResult r;
@@ -82,8 +74,7 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
   r.parent.assign(n, kNoParent);
   auto degree = [&g](std::uint32_t u) { return static_cast<double>(g.offsets[u + 1] - g.offsets[u]); };
 
-  std::uint32_t max_degree = 0;
-  for (std::size_t u = 0; u < n; ++u) max_degree = std::max(max_degree, g.offsets[u + 1] - g.offsets[u]);
+  const double max_degree = g.max_degree;
 
   // The frontier of the current level and the out-edges leaving it (counted only when
   // the bound frontier size x max degree leaves the choice of expansion open).
@@ -109,8 +100,8 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
       l.edges = 0;
     }
   };
-  // Below this a level is cheaper on one thread than the cost of spreading it.
-  constexpr double kParallelEdges = 1 << 17;
+  // Graphs below this size are searched top-down on one thread only.
+  constexpr double kBottomUpMinVertices = 1 << 17;
   constexpr double kBottomUpFactor = 4.0;
   std::int32_t level = 0;
   std::size_t reached = frontier.size();
@@ -119,7 +110,7 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
     const double bound = static_cast<double>(frontier.size()) * max_degree;
     if (!counted) {
       frontier_edges = bound;
-      if (bound >= kParallelEdges || bound * kBottomUpFactor > static_cast<double>(n)) {
+      if (bound * kBottomUpFactor > static_cast<double>(n)) {
         frontier_edges = 0;
         for (std::uint32_t u : frontier) frontier_edges += degree(u);
       }
@@ -128,13 +119,12 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
     // Cost model per level: top-down touches the frontier's out-edges; bottom-up scans
     // every vertex and the in-edges of the unvisited ones (stopping early, hence the
     // factor). Bottom-up wins only on dense levels, never on sparse axon networks.
-    const bool bottom_up = static_cast<double>(n) > kParallelEdges &&
+    const bool bottom_up = static_cast<double>(n) > kBottomUpMinVertices &&
                            frontier_edges * kBottomUpFactor > static_cast<double>(n) + unexplored;
-    const bool parallel = frontier_edges >= kParallelEdges;
     next.clear();
     next.reserve(static_cast<std::size_t>(std::min(bound, static_cast<double>(n - reached))));
     frontier_edges = 0;
-    counted = parallel || bottom_up;  // the parallel expansions count as they go
+    counted = bottom_up;  // the bottom-up expansion counts as it goes
     if (bottom_up) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& b) {
         Found& out = local.local();
@@ -151,7 +141,7 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
         }
       });
       gather();
-    } else if (!parallel) {
+    } else {
       for (std::uint32_t u : frontier)
         for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
           const std::uint32_t v = g.targets[k];
@@ -163,28 +153,6 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
             r.parent[v] = u;
           }
         }
-    } else {
-      // A vertex is claimed by whichever expansion reaches it first (integer
-      // compare-and-swap); the value it gets is the same either way.
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 1024),
-                        [&](const tbb::blocked_range<std::size_t>& b) {
-                          Found& out = local.local();
-                          for (std::size_t f = b.begin(); f != b.end(); ++f) {
-                            const std::uint32_t u = frontier[f];
-                            for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
-                              const std::uint32_t v = g.targets[k];
-                              std::atomic_ref<std::int32_t> lv(r.level[v]);
-                              std::int32_t expected = -1;
-                              if (lv.load(std::memory_order_relaxed) == -1 &&
-                                  lv.compare_exchange_strong(expected, level + 1, std::memory_order_relaxed)) {
-                                out.vertices.push_back(v);
-                                out.edges += degree(v);
-                              }
-                              if (lv.load(std::memory_order_relaxed) == level + 1) atomic_min(r.parent[v], u);
-                            }
-                          }
-                        });
-      gather();
     }
     reached += next.size();
     if (!next.empty()) ++level;

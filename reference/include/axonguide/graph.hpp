@@ -11,6 +11,7 @@ namespace axg {
 struct Csr {
   std::vector<std::uint32_t> offsets;  // vertices + 1
   std::vector<std::uint32_t> targets;  // neighbours, ascending within a vertex
+  std::uint32_t max_degree = 0;
   std::size_t vertices() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t edges() const { return targets.size(); }
 };

@@ -40,6 +40,14 @@ std::vector<Row> grid(const Options& o);
 // Median wall seconds of `repeats` calls of fn (at least one; more while under budget).
 double time_median(const std::function<void()>& fn, int repeats = 5, double budget_seconds = 2.0);
 
+// A peer and ours timed alternately, round after round, so that drift in the machine's
+// speed (this VM's varies by tens of percent) hits both alike. Medians of each and of
+// the per-round ratio peer_time / our_time.
+struct Paired {
+  double peer_seconds, our_seconds, speedup;
+};
+Paired time_paired(const std::function<void()>& peer, const std::function<void()>& ours, int rounds = 9);
+
 // The report's direct-guidance density: 100 neurons in a ball of radius 2.5.
 Scene paper_direct_scene(std::uint64_t neurons);
 

@@ -20,6 +20,27 @@ double time_median(const std::function<void()>& fn, int repeats, double budget_s
   return t[t.size() / 2];
 }
 
+Paired time_paired(const std::function<void()>& peer, const std::function<void()>& ours, int rounds) {
+  auto once = [](const std::function<void()>& fn) {
+    const auto a = std::chrono::steady_clock::now();
+    fn();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+  };
+  once(peer);  // warm-up: page faults, caches, thread start
+  once(ours);
+  std::vector<double> tp, to, ratio;
+  for (int k = 0; k < rounds; ++k) {
+    tp.push_back(once(peer));
+    to.push_back(once(ours));
+    ratio.push_back(tp.back() / to.back());
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  return {median(tp), median(to), median(ratio)};
+}
+
 Scene paper_direct_scene(std::uint64_t neurons) {
   Scene s;
   s.neurons.count = neurons;

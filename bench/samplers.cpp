@@ -38,31 +38,31 @@ std::vector<Row> samplers(const Options& o) {
   const std::size_t n = o.quick ? 200000 : 2000000;
   std::vector<core::Vec3> out(n);
 
-  // Peers first: they set the baseline.
-  double boost_rate = 0;
+  // Boost's uniform_on_sphere is the baseline every row is paired with.
+  boost::random::mt19937 boost_gen(12345);
+  boost::random::uniform_on_sphere<double> boost_dist(3);
+  auto boost_run = [&](std::size_t m) {
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::vector<double> v = boost_dist(boost_gen);
+      out[i] = {v[0], v[1], v[2]};
+    }
+    consume(out);
+  };
   {
-    boost::random::mt19937 gen(12345);
-    boost::random::uniform_on_sphere<double> dist(3);
-    const double t = time_median([&] {
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::vector<double> v = dist(gen);
-        out[i] = {v[0], v[1], v[2]};
-      }
-      consume(out);
-    });
-    boost_rate = static_cast<double>(n) / t;
-    emit({"samplers", "direction S^2", "boost uniform_on_sphere (mt19937)", 1, double(n), t, boost_rate,
-          "points/s", 1.0, "boost", ""});
+    const double t = time_median([&] { boost_run(n); }, 9);
+    emit({"samplers", "direction S^2", "boost uniform_on_sphere (mt19937)", 1, double(n), t, n / t, "points/s", 1.0,
+          "boost", ""});
   }
   {
     gsl_rng* r = gsl_rng_alloc(gsl_rng_mt19937);
-    const double t = time_median([&] {
-      for (std::size_t i = 0; i < n; ++i) gsl_ran_dir_3d(r, &out[i].x, &out[i].y, &out[i].z);
-      consume(out);
-    });
+    const Paired p = time_paired([&] { boost_run(n); },
+                                 [&] {
+                                   for (std::size_t i = 0; i < n; ++i) gsl_ran_dir_3d(r, &out[i].x, &out[i].y, &out[i].z);
+                                   consume(out);
+                                 });
     gsl_rng_free(r);
-    emit({"samplers", "direction S^2", "gsl_ran_dir_3d (mt19937)", 1, double(n), t, n / t, "points/s",
-          (n / t) / boost_rate, "boost", ""});
+    emit({"samplers", "direction S^2", "gsl_ran_dir_3d (mt19937)", 1, double(n), p.our_seconds, n / p.our_seconds,
+          "points/s", p.speedup, "boost", "paired rounds, median ratio"});
   }
 
   const std::pair<core::Sampler, const char*> ours[] = {{core::Sampler::kRejection, "rejection"},
@@ -74,21 +74,25 @@ std::vector<Row> samplers(const Options& o) {
     std::vector<int> thread_counts{1};
     if (max_threads > 1) thread_counts.push_back(max_threads);
     for (int threads : thread_counts) {
-      const double t = with_threads(threads, [&] {
-        return time_median([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            core::Rng rng(1, core::Stream::kBenchmark, i, 0);
-            // The core samplers inline into the loop; the coordinate one calls GSL.
-            out[i] = sampler == core::Sampler::kCoordinate ? sample_direction3(sampler, rng)
-                                                           : core::direction3(sampler, rng);
-          }
-        });
-        consume(out);
-        });
+      const Paired p = with_threads(threads, [&] {
+        return time_paired([&] { boost_run(m); },
+                           [&] {
+                             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 4096),
+                                               [&](const tbb::blocked_range<std::size_t>& r) {
+                                                 for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                                   core::Rng rng(1, core::Stream::kBenchmark, i, 0);
+                                                   // The core samplers inline; the coordinate one calls GSL.
+                                                   out[i] = sampler == core::Sampler::kCoordinate
+                                                                ? sample_direction3(sampler, rng)
+                                                                : core::direction3(sampler, rng);
+                                                 }
+                                               });
+                             consume(out);
+                           },
+                           sampler == core::Sampler::kCoordinate ? 3 : 9);
       });
-      emit({"samplers", "direction S^2", std::string("axonguide ") + name, threads, double(m), t, m / t,
-            "points/s", (m / t) / boost_rate, "boost", ""});
+      emit({"samplers", "direction S^2", std::string("axonguide ") + name, threads, double(m), p.our_seconds,
+            m / p.our_seconds, "points/s", p.speedup, "boost (1 thread)", "paired rounds, median ratio"});
     }
   }
 

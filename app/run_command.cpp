@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/placement.hpp"
@@ -79,6 +80,15 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
   fmt::print("scene     {} (seed {})\n          {}\n", origin, s.seed, scene_line(s));
   fmt::print("placement {} neurons, {} redraws, packing fraction {:.4f}\n", r.neurons.size(), r.placement_redraws,
              packing_fraction(s.neurons));
+  if (s.uses_cues()) {
+    std::string sources;
+    for (const auto& c : make_cues(s))
+      sources += fmt::format("{}{} at ({:.2f}, {:.2f}, {:.2f})", sources.empty() ? "" : ", ",
+                             c.sign > 0 ? "attractant" : "repellent", c.position.x, c.position.y, c.position.z);
+    fmt::print("cues      {} field, {} steering: {}\n", name_of(s.cues.field), name_of(s.guidance.model), sources);
+    if (!r.field_note.empty()) fmt::print("          {}\n", r.field_note);
+    if (s.cues.field == FieldKind::kParticles) fmt::print("          {} particles at the end\n", last.particles);
+  }
   fmt::print("growth    {} of {} steps{}\n", r.steps_run, s.steps,
              r.steps_run < s.steps ? " (stopped early: no axon left growing)" : "");
   fmt::print("          connected {} ({:.1f}%), exited {} ({:.1f}%), max_steps {}\n", last.connected,
@@ -91,8 +101,9 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
     graph += fmt::format(", BFS from {} source{} reached {} (max level {})", s.analysis.bfs_sources.size(),
                          s.analysis.bfs_sources.size() == 1 ? "" : "s", r.graph.bfs->reached, r.graph.bfs->max_level);
   fmt::print("graph     {}\n", graph);
-  const double steps_time = r.times.total("grow") + r.times.total("compact") + r.times.total("fields") +
-                            r.times.total("steer");
+  double steps_time = 0;
+  for (const auto& row : r.times.rows())
+    if (row.step > 0) steps_time += row.seconds;
   const double axon_steps = [&] {
     double a = 0;
     for (std::size_t k = 0; k + 1 < r.stats.size(); ++k) a += static_cast<double>(r.stats[k].growing);

@@ -8,7 +8,10 @@
 
 #include "axonguide/cell_grid.hpp"
 #include "axonguide/core/growth.hpp"
+#include "axonguide/core/steering.hpp"
+#include "axonguide/cue_setup.hpp"
 #include "axonguide/engine.hpp"
+#include "axonguide/fields.hpp"
 #include "axonguide/growth_setup.hpp"
 
 namespace axg {
@@ -37,7 +40,12 @@ void scatter(const std::vector<std::uint32_t>& ids, std::vector<T>& in, std::vec
 class ReferenceEngine final : public Engine {
  public:
   ReferenceEngine(const Scene& scene, const Placement& placement)
-      : scene_(scene), params_(growth_params(scene)) {
+      : scene_(scene),
+        params_(growth_params(scene)),
+        cues_(make_cues(scene)),
+        field_(make_reference_field(scene, cues_)),
+        sense_(sense_params(scene)),
+        steer_(steer_params(scene)) {
     somas_ = build_cell_grid(soma_grid_geometry(scene), placement.soma);
     const std::size_t n = placement.soma.size();
     state_.resize(n);
@@ -51,7 +59,14 @@ class ReferenceEngine final : public Engine {
     for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
   }
 
+  // The pipeline of SPEC §3.2: (1) cue fields advance, (2) sense and steer, (3) move,
+  // (4) contact and bounds; then the growing axons are compacted.
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
+    if (field_) {
+      field_->advance(step, times);
+      ScopedPhase p(times, step, "steer");
+      steer(step);
+    }
     {
       ScopedPhase p(times, step, "grow");
       grow(step);
@@ -62,6 +77,7 @@ class ReferenceEngine final : public Engine {
     }
     stats_.step = step;
     stats_.growing = active_.size();
+    stats_.particles = field_ ? field_->particles() : 0;
     return stats_;
   }
 
@@ -84,12 +100,29 @@ class ReferenceEngine final : public Engine {
     scatter(ids, state_.target, out.target);
   }
 
+  std::string note() const override { return field_ ? field_->note() : std::string(); }
+
   std::size_t bytes() const override {
-    return somas_.bytes() + active_.capacity() * 4 + heading_.capacity() * sizeof(core::Vec3) +
+    return (field_ ? field_->bytes() : 0) + somas_.bytes() + active_.capacity() * 4 + heading_.capacity() * sizeof(core::Vec3) +
            state_.size() * (sizeof(core::Vec3) + 8 + 1 + 4 + 4);
   }
 
  private:
+  // Stage 2: every growing axon samples every cue at its tip and turns.
+  void steer(std::uint32_t step) {
+    const int cue_count = static_cast<int>(cues_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active_.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+      core::CueSample samples[core::kMaxCues];
+      core::Vec3 pull[core::kMaxCues];
+      for (std::size_t a = r.begin(); a != r.end(); ++a) {
+        const std::uint32_t k = active_[a];
+        field_->sample(state_.tip[k], samples, pull);
+        heading_[k] = core::steer_axon(heading_[k], samples, pull, cues_.data(), cue_count, sense_, steer_,
+                                       scene_.seed, somas_.ids[k], step);
+      }
+    });
+  }
+
   // Stages 3-4: move every growing tip and test contact and bounds.
   void grow(std::uint32_t step) {
     const core::CellGridView somas = somas_.view();
@@ -126,6 +159,10 @@ class ReferenceEngine final : public Engine {
 
   const Scene& scene_;
   core::GrowthParams params_;
+  std::vector<core::CueParams> cues_;
+  std::unique_ptr<CueField> field_;  // null for direct guidance: no cue work at all
+  core::SenseParams sense_;
+  core::SteerParams steer_;
   CellGrid somas_;
   NeuronState state_;  // in slot order
   std::vector<core::Vec3> heading_;

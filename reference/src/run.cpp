@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/placement.hpp"
 
@@ -16,6 +17,9 @@ std::uint64_t estimate_run_bytes(const Scene& scene) {
   const double per_neuron = 2 * 24 + 12 + static_cast<double>(reference_bytes_per_neuron()) + 64;
   double bytes = n * per_neuron;
   if (scene.output.paths) bytes += n * 24.0 * (scene.steps + 1.0);
+  // Particles; a grid field is checked when it is created (a scene error, exit 2).
+  if (scene.uses_cues() && scene.cues.field == FieldKind::kParticles)
+    bytes += static_cast<double>(estimate_cue_bytes(scene));
   return bytes >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
 }
 
@@ -89,6 +93,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     if (s.growing == 0) break;  // nothing left to grow or guide
   }
   r.engine_bytes = engine->bytes();
+  r.field_note = engine->note();
   {
     ScopedPhase p(r.times, 0, "readback");
     engine->finish(r.neurons);

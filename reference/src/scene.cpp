@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "axonguide/core/cues.hpp"
 #include "axonguide/error.hpp"
 
 namespace axg {
@@ -345,6 +346,10 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
     if (cues_given) warnings.push_back("guidance.model is \"direct\": the cues section is ignored");
     return;
   }
+  if (s.source_count() > static_cast<std::size_t>(core::kMaxCues))
+    throw InputError(fmt::format(
+        "scene: cues.sources has {} and cues.random_sources.count {}: at most {} cue sources in all",
+        s.cues.sources.size(), s.cues.random_sources.count, core::kMaxCues));
   const double rb = s.bounds_radius();
   for (std::size_t k = 0; k < s.cues.sources.size(); ++k) {
     const auto& p = s.cues.sources[k].position;
@@ -505,12 +510,19 @@ json scene_to_json(const Scene& s) {
 }
 
 Scene Scene::builtin_default() {
-  // Until cue guidance lands this is a direct-guidance scene: the report's Table 4 density
-  // (100 neurons in a ball of radius 2.5) scaled to 1000 neurons.
+  // The main job: 1000 neurons at the report's density (100 per ball of radius 2.5),
+  // two attractant and two repellent sources at sampled positions, the particle field
+  // and SNR steering.
   Scene s;
   s.neurons.count = 1000;
-  s.neurons.radius = 5.3860;  // 2.5 * 10^(1/3): the paper scenes' constant density
-  s.guidance.model = GuidanceModel::kDirect;
+  s.neurons.radius = 5.3860;  // 2.5 * 10^(1/3)
+  s.guidance.model = GuidanceModel::kSnr;
+  s.cues.field = FieldKind::kParticles;
+  for (CueKind kind : {CueKind::kAttractant, CueKind::kRepellent, CueKind::kAttractant, CueKind::kRepellent}) {
+    Source src;
+    src.kind = kind;
+    s.cues.sources.push_back(src);
+  }
   return s;
 }
 

@@ -168,7 +168,9 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
                          {"exited", last.exited},
                          {"max_steps", last.growing},
                          {"placement_redraws", r.placement_redraws},
-                         {"components", r.graph.component_count}};
+                         {"components", r.graph.component_count},
+                         {"particles_at_end", last.particles},
+                         {"cue_field", r.field_note}};
   json phases = json::object();
   for (const auto& row : r.times.rows()) {
     double prev = phases.contains(row.phase) ? phases[row.phase].get<double>() : 0.0;

@@ -4,6 +4,7 @@
 // grows or the steps run out, then reads the results back. The reference and the CUDA
 // accelerator implement this interface with the same core/ functions.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "axonguide/placement.hpp"
@@ -23,6 +24,8 @@ class Engine {
   virtual void finish(NeuronState& out) = 0;
   // Bytes of memory this engine holds (host or device), for the summary.
   virtual std::size_t bytes() const = 0;
+  // A line about the cue field for the summary and the manifest (may be empty).
+  virtual std::string note() const { return {}; }
 };
 
 // Bytes per neuron the reference engine needs (for memory estimates before allocation).

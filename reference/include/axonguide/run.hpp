@@ -44,6 +44,7 @@ struct RunResult {
   PhaseTimes times;
   std::uint32_t steps_run = 0;
   std::size_t engine_bytes = 0;
+  std::string field_note;  // e.g. the explicit grid's sub-steps
 };
 
 // Memory needed for the scene, estimated before anything is allocated.

@@ -1,0 +1,158 @@
+#pragma once
+// The particle field (SPEC §3.3, the report's method): per-particle motion, death, the
+// hashed uniform grid, the soft-sphere collision gather and the sensing gather. Each is
+// a pure function of (state, parameters, step, particle id) writing only its own slot.
+#include <cstdint>
+
+#include "cues.hpp"
+#include "hd.hpp"
+#include "random.hpp"
+#include "sampler.hpp"
+#include "sensing.hpp"
+#include "types.hpp"
+#include "vec3.hpp"
+
+namespace axg::core {
+
+struct ParticleParams {
+  Motion motion;
+  double dt;              // time per step
+  double damping;         // ballistic: fraction of velocity lost per step
+  double speed;           // ballistic: speed at birth, LU per time unit
+  double bounds_radius;   // LU: particles leaving the domain die
+  bool bounds_box;
+  bool collisions;
+  double contact2;        // (2 particle radius)^2, LU^2
+  double contact;         // 2 particle radius, LU
+  double stiffness;       // fraction of the overlap removed per step
+};
+
+// A hashed uniform grid: cell coordinates wrap modulo `dim` (a power of two), so distant
+// cells may share a bucket; every gather checks real distances, so wrapping costs time,
+// never correctness. Cells are at least as wide as every gather radius, so the 27
+// buckets around a point hold every particle within that radius.
+struct HashGridView {
+  Vec3 origin;   // LU; (x - origin) >= 0 for every point inside the domain
+  double cell;   // LU
+  int dim;       // buckets per axis, a power of two >= 4
+  const std::uint32_t* cell_start;  // dim^3 + 1
+  const std::uint32_t* index;       // particle slots sorted by (bucket, id)
+  const Vec3* pos;                  // positions in that order
+  const std::uint16_t* source;      // cue index in that order
+};
+
+AXG_HDI int hash_coord(double v, double origin, double cell) {
+  const double t = (v - origin) / cell;
+  return t >= 0.0 ? static_cast<int>(t) : static_cast<int>(t) - 1;  // floor for t >= -2^31
+}
+
+AXG_HDI std::uint32_t hash_bucket(int x, int y, int z, int dim) {
+  const auto m = static_cast<std::uint32_t>(dim - 1);
+  const auto d = static_cast<std::uint32_t>(dim);
+  return ((static_cast<std::uint32_t>(z) & m) * d + (static_cast<std::uint32_t>(y) & m)) * d +
+         (static_cast<std::uint32_t>(x) & m);
+}
+
+AXG_HDI std::uint32_t hash_of(Vec3 p, const HashGridView& g) {
+  return hash_bucket(hash_coord(p.x, g.origin.x, g.cell), hash_coord(p.y, g.origin.y, g.cell),
+                     hash_coord(p.z, g.origin.z, g.cell), g.dim);
+}
+
+// Number of particles cue `cue` emits at `step` (1-based): floor(step Q) - floor((step-1) Q),
+// so a fractional emission rate is honoured exactly on average.
+AXG_HDI std::uint32_t emitted_at(double emission, std::uint32_t step) {
+  const double a = emission * static_cast<double>(step);
+  const double b = emission * static_cast<double>(step - 1);
+  return static_cast<std::uint32_t>(static_cast<std::uint64_t>(a) - static_cast<std::uint64_t>(b));
+}
+
+// Velocity at birth (ballistic motion): a uniform direction times the speed.
+AXG_HDI Vec3 birth_velocity(std::uint64_t seed, std::uint64_t id, std::uint32_t step,
+                            const ParticleParams& p) {
+  Rng rng(seed, Stream::kParticleEmission, id, step);
+  return p.speed * direction_trig(rng);
+}
+
+AXG_HDI bool outside_domain(Vec3 x, double radius, bool box) {
+  if (box) return x.x > radius || x.x < -radius || x.y > radius || x.y < -radius || x.z > radius || x.z < -radius;
+  return norm2(x) > radius * radius;
+}
+
+// One step of one particle: move (Brownian x += sigma xi with xi ~ N(0, I) by the polar
+// method, or ballistic x += v dt, v *= 1 - damping), then death by decay (a uniform draw
+// above e^(-k dt)) or by leaving the domain. Returns whether it lives.
+AXG_HDI bool particle_step(std::uint64_t seed, std::uint64_t id, std::uint32_t step, Vec3& x, Vec3& v,
+                           const CueParams& cue, const ParticleParams& p) {
+  if (p.motion == Motion::kBrownian) {
+    Rng rng(seed, Stream::kParticleMotion, id, step);
+    double z0, z1, z2, unused;
+    normal_pair(rng, &z0, &z1);
+    normal_pair(rng, &z2, &unused);
+    x = x + cue.sigma * Vec3{z0, z1, z2};
+  } else {
+    x = x + p.dt * v;
+    v = (1.0 - p.damping) * v;
+  }
+  Rng fate(seed, Stream::kParticleDecay, id, step);
+  if (!(fate.uniform() < cue.survival)) return false;
+  return !outside_domain(x, p.bounds_radius, p.bounds_box);
+}
+
+// Soft-sphere response: the displacement that removes `stiffness` of every overlap with
+// the particles within 2 radii, summed over the 27 buckets in a fixed order (bucket z, y,
+// x, then id). Only the particle's own slot is written by the caller (a gather).
+AXG_HDI Vec3 collision_push(std::uint32_t self, Vec3 x, const HashGridView& g, const ParticleParams& p) {
+  const int cx = hash_coord(x.x, g.origin.x, g.cell), cy = hash_coord(x.y, g.origin.y, g.cell),
+            cz = hash_coord(x.z, g.origin.z, g.cell);
+  Vec3 push{0.0, 0.0, 0.0};
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::uint32_t b = hash_bucket(cx + dx, cy + dy, cz + dz, g.dim);
+        for (std::uint32_t k = g.cell_start[b]; k < g.cell_start[b + 1]; ++k) {
+          if (g.index[k] == self) continue;
+          const Vec3 d = x - g.pos[k];
+          const double d2 = norm2(d);
+          if (d2 >= p.contact2 || d2 == 0.0) continue;
+          const double dist = std::sqrt(d2);
+          push += (p.stiffness * 0.5 * (p.contact - dist) / dist) * d;
+        }
+      }
+  return push;
+}
+
+// The sensing gather at x: for every cue, the count of its particles within r and the sum
+// of their offsets; for vector_sum, the sum of unit vectors from each particle toward its
+// source. Order: buckets z, y, x, then particle id, identical on every backend.
+AXG_HDI void particle_gather(Vec3 x, const HashGridView& g, const CueParams* cues, int cue_count,
+                             const SenseParams& p, bool want_pull, CueSample* samples, Vec3* pull) {
+  double count[kMaxCues];
+  Vec3 sum[kMaxCues];
+  for (int k = 0; k < cue_count; ++k) {
+    count[k] = 0.0;
+    sum[k] = {0.0, 0.0, 0.0};
+    pull[k] = {0.0, 0.0, 0.0};
+  }
+  const int cx = hash_coord(x.x, g.origin.x, g.cell), cy = hash_coord(x.y, g.origin.y, g.cell),
+            cz = hash_coord(x.z, g.origin.z, g.cell);
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::uint32_t b = hash_bucket(cx + dx, cy + dy, cz + dz, g.dim);
+        for (std::uint32_t k = g.cell_start[b]; k < g.cell_start[b + 1]; ++k) {
+          const Vec3 d = g.pos[k] - x;
+          if (norm2(d) > p.radius2) continue;
+          const int c = g.source[k];
+          count[c] += 1.0;
+          sum[c] += d;
+          if (want_pull) {
+            const Vec3 to_source = cues[c].position - g.pos[k];
+            const double n = norm(to_source);
+            if (n > 0.0) pull[c] += to_source / n;
+          }
+        }
+      }
+  for (int k = 0; k < cue_count; ++k) samples[k] = particle_sample(count[k], sum[k], p);
+}
+
+}  // namespace axg::core

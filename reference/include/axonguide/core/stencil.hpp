@@ -1,0 +1,131 @@
+#pragma once
+// The grid field (SPEC §3.3, the report's Eulerian alternative):
+//   dc/dt = D lap(c) - k c + sources
+// on a uniform grid of n^3 nodes, node (i, j, k) at origin + h (i, j, k), index
+// (k n + j) n + i. Boundaries: `absorbing` (c = 0 on the faces) or `reflecting` (zero
+// flux: the ghost node mirrors the first interior one). Two schemes:
+// - explicit FTCS, 7-point Laplacian: stable and non-negative while
+//   dt (6 D / h^2 + k) <= 1; the driver sub-steps to that limit or refuses;
+// - implicit, locally one-dimensional backward Euler: (1 - dt D d_xx), then d_yy, then
+//   d_zz, each a tridiagonal solve per line (Thomas), then the decay c / (1 + k dt).
+//   Every matrix is an M-matrix and Thomas only adds non-negative terms, so the result is
+//   non-negative for any dt, even in floating point.
+#include <cstddef>
+#include <cstdint>
+
+#include "cues.hpp"
+#include "hd.hpp"
+#include "vec3.hpp"
+
+namespace axg::core {
+
+struct GridFieldView {
+  Vec3 origin;      // LU, node (0,0,0)
+  double h;         // LU, node spacing
+  int n;            // nodes per axis
+  const double* c;  // n^3 concentrations of one cue
+};
+
+AXG_HDI std::size_t node_index(int i, int j, int k, int n) {
+  return (static_cast<std::size_t>(k) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)) *
+             static_cast<std::size_t>(n) +
+         static_cast<std::size_t>(i);
+}
+
+// Trilinear interpolation of value and gradient (the gradient of the trilinear
+// interpolant) in the cell containing x; points outside the grid use the nearest cell.
+AXG_HDI CueSample trilinear_sample(Vec3 x, const GridFieldView& g) {
+  auto locate = [&](double v, double o, int* i, double* f) {
+    double t = (v - o) / g.h;
+    const double hi = static_cast<double>(g.n - 1);
+    if (!(t > 0.0)) t = 0.0;
+    if (t > hi) t = hi;
+    int c = static_cast<int>(t);
+    if (c > g.n - 2) c = g.n - 2;
+    *i = c;
+    *f = t - static_cast<double>(c);
+  };
+  int i, j, k;
+  double fx, fy, fz;
+  locate(x.x, g.origin.x, &i, &fx);
+  locate(x.y, g.origin.y, &j, &fy);
+  locate(x.z, g.origin.z, &k, &fz);
+  const double c000 = g.c[node_index(i, j, k, g.n)], c100 = g.c[node_index(i + 1, j, k, g.n)];
+  const double c010 = g.c[node_index(i, j + 1, k, g.n)], c110 = g.c[node_index(i + 1, j + 1, k, g.n)];
+  const double c001 = g.c[node_index(i, j, k + 1, g.n)], c101 = g.c[node_index(i + 1, j, k + 1, g.n)];
+  const double c011 = g.c[node_index(i, j + 1, k + 1, g.n)], c111 = g.c[node_index(i + 1, j + 1, k + 1, g.n)];
+  const double gx = 1.0 - fx, gy = 1.0 - fy, gz = 1.0 - fz;
+  // Interpolate along x, then y, then z; the derivatives follow the same tree.
+  const double c00 = gx * c000 + fx * c100, c10 = gx * c010 + fx * c110;
+  const double c01 = gx * c001 + fx * c101, c11 = gx * c011 + fx * c111;
+  const double c0 = gy * c00 + fy * c10, c1 = gy * c01 + fy * c11;
+  const double value = gz * c0 + fz * c1;
+  const double dx00 = c100 - c000, dx10 = c110 - c010, dx01 = c101 - c001, dx11 = c111 - c011;
+  const double ddx = gz * (gy * dx00 + fy * dx10) + fz * (gy * dx01 + fy * dx11);
+  const double ddy = gz * (c10 - c00) + fz * (c11 - c01);
+  const double ddz = c1 - c0;
+  return {value, Vec3{ddx, ddy, ddz} / g.h};
+}
+
+struct StencilParams {
+  int n;            // nodes per axis
+  double lambda;    // D dt / h^2 for one (sub-)step
+  double decay_dt;  // k dt for one (sub-)step
+  bool reflecting;
+};
+
+// Explicit FTCS update of node (i, j, k): reads `c`, the caller writes its own slot.
+AXG_HDI double ftcs_node(const double* c, int i, int j, int k, const StencilParams& s) {
+  const int n = s.n;
+  const bool face = i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 || k == n - 1;
+  if (face && !s.reflecting) return 0.0;
+  auto at = [&](int a, int b, int d) {
+    // Mirror ghost nodes for the reflecting boundary.
+    if (a < 0) a = 1;
+    if (a > n - 1) a = n - 2;
+    if (b < 0) b = 1;
+    if (b > n - 1) b = n - 2;
+    if (d < 0) d = 1;
+    if (d > n - 1) d = n - 2;
+    return c[node_index(a, b, d, n)];
+  };
+  const double here = c[node_index(i, j, k, n)];
+  const double sum = ((((at(i - 1, j, k) + at(i + 1, j, k)) + at(i, j - 1, k)) + at(i, j + 1, k)) + at(i, j, k - 1)) +
+                     at(i, j, k + 1);
+  return here + s.lambda * (sum - 6.0 * here) - s.decay_dt * here;
+}
+
+// Backward Euler along one line of n values c[first + m stride], m = 0..n-1:
+//   (1 + 2 lambda) x_m - lambda (x_{m-1} + x_{m+1}) = c_m,
+// with x = 0 at both ends (absorbing) or mirrored ghosts (reflecting). In place; `cp`
+// and `dp` are scratch of n values. Thomas algorithm: every term it adds is >= 0.
+AXG_HDI void lod_line_solve(double* c, std::size_t first, std::size_t stride, int n, double lambda, bool reflecting,
+                            double* cp, double* dp) {
+  const int lo = reflecting ? 0 : 1, hi = reflecting ? n - 1 : n - 2;
+  if (!reflecting) {
+    c[first] = 0.0;
+    c[first + static_cast<std::size_t>(n - 1) * stride] = 0.0;
+  }
+  if (hi < lo) return;
+  const double diag = 1.0 + 2.0 * lambda;
+  for (int m = lo; m <= hi; ++m) {
+    // Row m: a x_{m-1} + diag x_m + b x_{m+1} = c_m with a = b = -lambda, except that a
+    // mirrored ghost doubles the coupling of the first and last reflecting rows.
+    double a = m == lo ? 0.0 : lambda;      // magnitude of the sub-diagonal
+    double b = m == hi ? 0.0 : lambda;      // magnitude of the super-diagonal
+    if (reflecting && m == lo && lo != hi) b = 2.0 * lambda;
+    if (reflecting && m == hi && lo != hi) a = 2.0 * lambda;
+    const double rhs = c[first + static_cast<std::size_t>(m) * stride];
+    const double denom = m == lo ? diag : diag - a * cp[m - 1];
+    cp[m] = b / denom;
+    dp[m] = m == lo ? rhs / denom : (rhs + a * dp[m - 1]) / denom;
+  }
+  double next = dp[hi];
+  c[first + static_cast<std::size_t>(hi) * stride] = next;
+  for (int m = hi - 1; m >= lo; --m) {
+    next = dp[m] + cp[m] * next;
+    c[first + static_cast<std::size_t>(m) * stride] = next;
+  }
+}
+
+}  // namespace axg::core

@@ -1,0 +1,51 @@
+#pragma once
+// Scene-derived parameters of the cue stages, shared by every backend so that all of
+// them hand identical numbers to the core/ functions. Source positions that the scene
+// leaves to sampling are drawn here (host code, like placement).
+#include <cstdint>
+#include <vector>
+
+#include "axonguide/core/cues.hpp"
+#include "axonguide/core/particles.hpp"
+#include "axonguide/core/stencil.hpp"
+#include "axonguide/scene.hpp"
+
+namespace axg {
+
+// Every cue in index order: the scene's sources, then the random ones.
+std::vector<core::CueParams> make_cues(const Scene& scene);
+
+core::SenseParams sense_params(const Scene& scene);
+core::SteerParams steer_params(const Scene& scene);
+core::ParticleParams particle_params(const Scene& scene);
+
+struct HashGeometry {
+  core::Vec3 origin;
+  double cell;
+  int dim;
+  std::size_t buckets() const { return static_cast<std::size_t>(dim) * dim * dim; }
+};
+// Buckets at least as wide as the sensing radius (and the collision diameter), at most
+// 128 per axis (wrapping beyond), covering the domain without wrap when they can.
+HashGeometry particle_hash_geometry(const Scene& scene);
+
+struct GridGeometry3 {
+  core::Vec3 origin;
+  double h;
+  int n;
+  std::size_t nodes() const { return static_cast<std::size_t>(n) * n * n; }
+};
+// Nodes spanning the domain's cube [-R_b, R_b]^3 at the scene's spacing.
+GridGeometry3 grid_field_geometry(const Scene& scene);
+
+// Explicit sub-steps needed by cue k: ceil(dt (6 D / h^2 + k)).
+std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt);
+core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams& cue, double dt, bool reflecting);
+
+// Bytes the cue fields of this scene need (0 for direct guidance); checked against the
+// machine before allocation (the grid field refuses with exit 2, as a scene error).
+std::uint64_t estimate_cue_bytes(const Scene& scene);
+// Typical steady particle count (for estimates and messages).
+double expected_particles(const Scene& scene);
+
+}  // namespace axg

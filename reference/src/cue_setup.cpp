@@ -1,0 +1,179 @@
+#include "axonguide/cue_setup.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "axonguide/core/pmath.hpp"
+#include "axonguide/core/random.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/sampler_nd.hpp"
+
+namespace axg {
+
+namespace {
+
+core::CueParams cue_from(const Source& s, core::Vec3 position, const Scene& scene) {
+  core::CueParams c{};
+  const double dt = scene.dt;
+  c.position = position;
+  c.sign = s.kind == CueKind::kAttractant ? 1.0 : -1.0;
+  c.emission = s.emission;
+  c.diffusion = s.diffusion;
+  c.decay = s.decay;
+  c.kd = s.kd;
+  c.min_c = s.min_concentration;
+  c.max_c = s.max_concentration;
+  c.survival = core::pm::exp(-s.decay * dt);
+  c.sigma = std::sqrt(2.0 * s.diffusion * dt);
+  c.inv_lambda = std::sqrt(s.decay / s.diffusion);
+  c.analytic_scale = scene.cues.particles.amount * s.emission / (dt * 4.0 * 3.141592653589793 * s.diffusion);
+  return c;
+}
+
+// A source position inside the region (a sphere region's sources fill its ball).
+core::Vec3 sample_source_position(const Scene& scene, std::uint64_t index) {
+  core::Rng rng(scene.seed, core::Stream::kSourcePosition, index, 0);
+  const auto shape = scene.neurons.shape == RegionShape::kSphere ? RegionShape::kBall : scene.neurons.shape;
+  return sample_region_point(shape, scene.neurons.radius, scene.neurons.sampler, rng);
+}
+
+}  // namespace
+
+std::vector<core::CueParams> make_cues(const Scene& scene) {
+  std::vector<core::CueParams> cues;
+  if (!scene.uses_cues()) return cues;
+  std::uint64_t index = 0;
+  for (const Source& s : scene.cues.sources) {
+    cues.push_back(cue_from(s, s.position ? *s.position : sample_source_position(scene, index), scene));
+    ++index;
+  }
+  const RandomSources& r = scene.cues.random_sources;
+  for (std::uint32_t j = 0; j < r.count; ++j, ++index) {
+    Source s;
+    core::Rng kind(scene.seed, core::Stream::kSourceKind, index, 0);
+    s.kind = kind.uniform() < r.attractant_fraction ? CueKind::kAttractant : CueKind::kRepellent;
+    s.emission = r.emission;
+    s.diffusion = r.diffusion;
+    s.decay = r.decay;
+    s.kd = r.kd;
+    cues.push_back(cue_from(s, sample_source_position(scene, index), scene));
+  }
+  return cues;
+}
+
+core::SenseParams sense_params(const Scene& scene) {
+  core::SenseParams p{};
+  const double r = scene.guidance.sensing_radius;
+  const double volume = 4.0 / 3.0 * 3.141592653589793 * r * r * r;
+  p.field = scene.cues.field;
+  p.amount = scene.cues.particles.amount;
+  p.radius = r;
+  p.radius2 = r * r;
+  p.c_per_particle = p.amount / volume;
+  p.grad_scale = 5.0 * p.amount / (volume * r * r);
+  p.cone_width = scene.guidance.growth_cone_width;
+  p.analytic_rmin = 1e-3;
+  return p;
+}
+
+core::SteerParams steer_params(const Scene& scene) {
+  core::SteerParams p{};
+  p.model = scene.guidance.model;
+  double s, c;
+  core::pm::sincos(scene.guidance.turn_angle, &s, &c);
+  p.cos_turn = c;
+  p.sin_turn = s;
+  p.gain = scene.guidance.gain;
+  p.vector_weight = scene.guidance.vector_weight;
+  return p;
+}
+
+core::ParticleParams particle_params(const Scene& scene) {
+  core::ParticleParams p{};
+  const auto& q = scene.cues.particles;
+  p.motion = q.motion;
+  p.dt = scene.dt;
+  p.damping = q.damping;
+  p.bounds_radius = scene.bounds_radius();
+  p.bounds_box = scene.neurons.shape == RegionShape::kBox;
+  p.collisions = q.collisions;
+  p.contact = 2.0 * q.radius;
+  p.contact2 = p.contact * p.contact;
+  p.stiffness = q.stiffness;
+  // Default ballistic speed: the RMS displacement of Brownian motion in one step,
+  // sqrt(6 D dt) / dt, for the smallest diffusion of the scene.
+  double d_min = HUGE_VAL;
+  for (const auto& c : make_cues(scene)) d_min = std::min(d_min, c.diffusion);
+  p.speed = q.speed > 0 ? q.speed : (d_min < HUGE_VAL ? std::sqrt(6.0 * d_min * scene.dt) / scene.dt : 0.0);
+  return p;
+}
+
+HashGeometry particle_hash_geometry(const Scene& scene) {
+  HashGeometry g;
+  g.cell = scene.guidance.sensing_radius;
+  if (scene.cues.particles.collisions) g.cell = std::max(g.cell, 2.0 * scene.cues.particles.radius);
+  const double half = scene.bounds_radius();
+  const double span = 2.0 * half / g.cell + 2.0;
+  g.dim = 4;
+  while (g.dim < span && g.dim < 128) g.dim *= 2;
+  g.origin = {-half - g.cell, -half - g.cell, -half - g.cell};
+  return g;
+}
+
+GridGeometry3 grid_field_geometry(const Scene& scene) {
+  GridGeometry3 g;
+  g.h = scene.cues.grid.spacing;
+  const double half = scene.bounds_radius();
+  g.n = static_cast<int>(std::ceil(2.0 * half / g.h)) + 1;
+  const double o = -0.5 * (g.n - 1) * g.h;
+  g.origin = {o, o, o};
+  return g;
+}
+
+std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt) {
+  const double need = dt * (6.0 * cue.diffusion / (h * h) + cue.decay);
+  return static_cast<std::uint32_t>(std::max(1.0, std::ceil(need)));
+}
+
+core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams& cue, double dt, bool reflecting) {
+  core::StencilParams s{};
+  s.n = g.n;
+  s.lambda = cue.diffusion * dt / (g.h * g.h);
+  s.decay_dt = cue.decay * dt;
+  s.reflecting = reflecting;
+  return s;
+}
+
+double expected_particles(const Scene& scene) {
+  double total = 0;
+  for (const auto& c : make_cues(scene)) {
+    const double lifetime = c.survival < 1.0 ? 1.0 / (1.0 - c.survival) : static_cast<double>(scene.steps);
+    total += c.emission * std::min(lifetime, static_cast<double>(scene.steps));
+  }
+  return total;
+}
+
+std::uint64_t estimate_cue_bytes(const Scene& scene) {
+  if (!scene.uses_cues()) return 0;
+  const double cues = static_cast<double>(scene.source_count());
+  switch (scene.cues.field) {
+    case FieldKind::kAnalytic: return 0;
+    case FieldKind::kGrid: {
+      const GridGeometry3 g = grid_field_geometry(scene);
+      const double buffers = scene.cues.grid.scheme == GridScheme::kExplicit ? 2.0 : 1.0;
+      const double b = cues * buffers * static_cast<double>(g.nodes()) * 8.0;
+      return b >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(b);
+    }
+    case FieldKind::kParticles: {
+      // state (position, velocity, id, source, flags) and grid (keys, index, sorted copies)
+      const double per = 24 + 24 + 8 + 2 + 4 + 4 * 4 + 24 + 2;
+      const HashGeometry h = particle_hash_geometry(scene);
+      return static_cast<std::uint64_t>(expected_particles(scene) * per * 2 + h.buckets() * 4.0);
+    }
+  }
+  return 0;
+}
+
+}  // namespace axg

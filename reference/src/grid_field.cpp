@@ -1,0 +1,203 @@
+// The grid field on the CPU: one grid per cue; explicit FTCS sub-stepped to its stability
+// limit, or implicit LOD with one Thomas solve per line. Parallel over nodes (explicit)
+// or lines (implicit); each task writes only its own nodes.
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "axonguide/core/stencil.hpp"
+#include "axonguide/cue_setup.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/fields.hpp"
+
+namespace axg {
+
+namespace {
+
+class GridField final : public CueField {
+ public:
+  GridField(const Scene& scene, const std::vector<core::CueParams>& cues)
+      : cues_(cues),
+        geometry_(grid_field_geometry(scene)),
+        scheme_(scene.cues.grid.scheme),
+        reflecting_(scene.cues.grid.boundary == GridBoundary::kReflecting),
+        dt_(scene.dt),
+        amount_(scene.cues.particles.amount) {
+    const std::size_t nodes = geometry_.nodes();
+    c_.assign(cues_.size(), std::vector<double>(nodes, 0.0));
+    if (scheme_ == GridScheme::kExplicit) {
+      next_.assign(nodes, 0.0);
+      for (const auto& cue : cues_) substeps_.push_back(explicit_substeps(cue, geometry_.h, dt_));
+      const std::uint32_t worst = *std::max_element(substeps_.begin(), substeps_.end());
+      if (worst > 1 && !scene.cues.grid.allow_substeps)
+        throw InputError(fmt::format(
+            "scene: cues.grid.allow_substeps = false, but the explicit scheme needs {} sub-steps per step: "
+            "dt (6 D / h^2 + k) = {:.4g} exceeds the stability limit 1 (h = {}, dt = {}); allow sub-steps, "
+            "use a coarser cues.grid.spacing, or the \"implicit\" scheme",
+            worst, dt_ * (6.0 * cues_[0].diffusion / (geometry_.h * geometry_.h) + cues_[0].decay), geometry_.h, dt_));
+    }
+  }
+
+  void advance(std::uint32_t step, PhaseTimes& times) override {
+    ScopedPhase p(times, step, scheme_ == GridScheme::kExplicit ? "grid.explicit" : "grid.implicit");
+    for (std::size_t k = 0; k < cues_.size(); ++k) {
+      if (scheme_ == GridScheme::kExplicit) explicit_step(k, step);
+      else implicit_step(k, step);
+    }
+  }
+
+  void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
+    for (std::size_t k = 0; k < cues_.size(); ++k) {
+      samples[k] = core::trilinear_sample(x, view(k));
+      const double n = core::norm(samples[k].grad);
+      pull[k] = n > 0.0 ? (cues_[k].sign / n) * samples[k].grad : core::Vec3{0, 0, 0};
+    }
+  }
+
+  std::size_t bytes() const override { return (c_.size() * geometry_.nodes() + next_.size()) * sizeof(double); }
+
+  std::string note() const override {
+    if (scheme_ != GridScheme::kExplicit) return fmt::format("implicit LOD grid, {}^3 nodes, h = {}", geometry_.n, geometry_.h);
+    return fmt::format("explicit grid, {}^3 nodes, h = {}, sub-steps per step: {}", geometry_.n, geometry_.h,
+                       *std::max_element(substeps_.begin(), substeps_.end()));
+  }
+
+  const std::vector<std::uint32_t>& substeps() const { return substeps_; }
+
+ private:
+  core::GridFieldView view(std::size_t k) const { return {geometry_.origin, geometry_.h, geometry_.n, c_[k].data()}; }
+
+  // The source adds a Q dt/dt = a Q per step, spread trilinearly over the 8 nodes around
+  // it and divided by the node volume h^3; `fraction` splits it across sub-steps.
+  void add_source(std::size_t k, double fraction) {
+    const core::CueParams& cue = cues_[k];
+    const double total = amount_ * core::emitted_at(cue.emission, step_) * fraction;
+    if (total == 0.0) return;
+    const int n = geometry_.n;
+    auto locate = [&](double v, double o, int* i, double* f) {
+      double t = (v - o) / geometry_.h;
+      t = std::clamp(t, 0.0, static_cast<double>(n - 1));
+      int c = std::min(static_cast<int>(t), n - 2);
+      *i = c;
+      *f = t - c;
+    };
+    int i, j, l;
+    double fx, fy, fz;
+    locate(cue.position.x, geometry_.origin.x, &i, &fx);
+    locate(cue.position.y, geometry_.origin.y, &j, &fy);
+    locate(cue.position.z, geometry_.origin.z, &l, &fz);
+    const double per_volume = total / (geometry_.h * geometry_.h * geometry_.h);
+    std::vector<double>& c = c_[k];
+    for (int dz = 0; dz <= 1; ++dz)
+      for (int dy = 0; dy <= 1; ++dy)
+        for (int dx = 0; dx <= 1; ++dx) {
+          const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy) * (dz ? fz : 1.0 - fz);
+          c[core::node_index(i + dx, j + dy, l + dz, n)] += w * per_volume;
+        }
+  }
+
+  void explicit_step(std::size_t k, std::uint32_t step) {
+    step_ = step;
+    const std::uint32_t m = substeps_[k];
+    const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_ / m, reflecting_);
+    const int n = geometry_.n;
+    for (std::uint32_t sub = 0; sub < m; ++sub) {
+      add_source(k, 1.0 / m);
+      const double* in = c_[k].data();
+      tbb::parallel_for(tbb::blocked_range<int>(0, n * n), [&](const tbb::blocked_range<int>& r) {
+        for (int row = r.begin(); row != r.end(); ++row) {
+          const int zk = row / n, yj = row % n;
+          for (int xi = 0; xi < n; ++xi) next_[core::node_index(xi, yj, zk, n)] = core::ftcs_node(in, xi, yj, zk, s);
+        }
+      });
+      c_[k].swap(next_);
+    }
+  }
+
+  void implicit_step(std::size_t k, std::uint32_t step) {
+    step_ = step;
+    add_source(k, 1.0);
+    const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_, reflecting_);
+    const int n = geometry_.n;
+    const std::size_t nn = static_cast<std::size_t>(n);
+    double* c = c_[k].data();
+    tbb::enumerable_thread_specific<std::vector<double>> scratch([n] { return std::vector<double>(2 * n); });
+    // Sweep along axis `a`: lines are indexed by the two other coordinates.
+    for (int a = 0; a < 3; ++a) {
+      const std::size_t stride = a == 0 ? 1 : a == 1 ? nn : nn * nn;
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nn * nn), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<double>& buf = scratch.local();
+        for (std::size_t line = r.begin(); line != r.end(); ++line) {
+          const std::size_t p = line / nn, q = line % nn;
+          std::size_t first;
+          if (a == 0) first = (p * nn + q) * nn;     // (z=p, y=q)
+          else if (a == 1) first = p * nn * nn + q;  // (z=p, x=q)
+          else first = p * nn + q;                   // (y=p, x=q)
+          core::lod_line_solve(c, first, stride, n, s.lambda, reflecting_, buf.data(), buf.data() + n);
+        }
+      });
+    }
+    const double keep = 1.0 / (1.0 + s.decay_dt);
+    tbb::parallel_for(std::size_t{0}, c_[k].size(), [&](std::size_t i) { c[i] = c[i] * keep; });
+  }
+
+  std::vector<core::CueParams> cues_;
+  GridGeometry3 geometry_;
+  GridScheme scheme_;
+  bool reflecting_;
+  double dt_, amount_;
+  std::uint32_t step_ = 0;
+  std::vector<std::vector<double>> c_;
+  std::vector<double> next_;
+  std::vector<std::uint32_t> substeps_;
+};
+
+class AnalyticField final : public CueField {
+ public:
+  AnalyticField(const Scene& scene, const std::vector<core::CueParams>& cues)
+      : cues_(cues), sense_(sense_params(scene)) {}
+  void advance(std::uint32_t, PhaseTimes&) override {}
+  void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
+    for (std::size_t k = 0; k < cues_.size(); ++k) {
+      samples[k] = core::analytic_sample(x, cues_[k], sense_);
+      const double n = core::norm(samples[k].grad);
+      pull[k] = n > 0.0 ? (cues_[k].sign / n) * samples[k].grad : core::Vec3{0, 0, 0};
+    }
+  }
+  std::size_t bytes() const override { return 0; }
+
+ private:
+  std::vector<core::CueParams> cues_;
+  core::SenseParams sense_;
+};
+
+}  // namespace
+
+std::unique_ptr<CueField> make_particle_field(const Scene& scene, const std::vector<core::CueParams>& cues);
+
+std::unique_ptr<CueField> make_reference_field(const Scene& scene, const std::vector<core::CueParams>& cues) {
+  if (!scene.uses_cues()) return nullptr;
+  switch (scene.cues.field) {
+    case FieldKind::kParticles: return make_particle_field(scene, cues);
+    case FieldKind::kAnalytic: return std::make_unique<AnalyticField>(scene, cues);
+    case FieldKind::kGrid: {
+      const std::uint64_t bytes = estimate_cue_bytes(scene);
+      const std::uint64_t have = physical_memory_bytes();
+      if (have != 0 && bytes > have) {
+        const GridGeometry3 g = grid_field_geometry(scene);
+        throw InputError(fmt::format(
+            "scene: cues.grid.spacing = {}: {} cue grids of {}^3 nodes need an estimated {}, above this machine's {}; "
+            "use a coarser spacing or fewer sources",
+            scene.cues.grid.spacing, scene.source_count(), g.n, human_bytes(static_cast<double>(bytes)),
+            human_bytes(static_cast<double>(have))));
+      }
+      return std::make_unique<GridField>(scene, cues);
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace axg

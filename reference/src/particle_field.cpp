@@ -1,0 +1,167 @@
+// The particle field on the CPU: emission, motion and death per particle, stable
+// compaction, the hashed grid rebuilt by a stable radix sort on (bucket, id), and the
+// optional soft-sphere collisions. Particles are kept in id order (emission appends
+// increasing ids; compaction is stable), so sorting by bucket alone sorts by (bucket, id).
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include "axonguide/compact.hpp"
+#include "axonguide/core/particles.hpp"
+#include "axonguide/cue_setup.hpp"
+#include "axonguide/fields.hpp"
+#include "axonguide/radix_sort.hpp"
+
+namespace axg {
+
+namespace {
+
+class ParticleField final : public CueField {
+ public:
+  ParticleField(const Scene& scene, const std::vector<core::CueParams>& cues)
+      : seed_(scene.seed),
+        cues_(cues),
+        sense_(sense_params(scene)),
+        params_(particle_params(scene)),
+        geometry_(particle_hash_geometry(scene)),
+        ballistic_(scene.cues.particles.motion == Motion::kBallistic) {
+    cell_start_.assign(geometry_.buckets() + 1, 0);
+  }
+
+  void advance(std::uint32_t step, PhaseTimes& times) override {
+    {
+      ScopedPhase p(times, step, "particles.emit");
+      emit(step);
+    }
+    {
+      ScopedPhase p(times, step, "particles.move");
+      move(step);
+    }
+    {
+      ScopedPhase p(times, step, "particles.compact");
+      compact();
+    }
+    {
+      ScopedPhase p(times, step, "particles.grid");
+      build_grid();
+    }
+    if (params_.collisions) {
+      ScopedPhase p(times, step, "particles.collide");
+      collide();
+      build_grid();
+    }
+  }
+
+  void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
+    core::particle_gather(x, view(), cues_.data(), static_cast<int>(cues_.size()), sense_,
+                          true, samples, pull);
+    for (std::size_t k = 0; k < cues_.size(); ++k) pull[k] = cues_[k].sign * pull[k];
+  }
+
+  std::uint64_t particles() const override { return pos_.size(); }
+
+  std::size_t bytes() const override {
+    return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
+           keep_.capacity() + keys_.capacity() * 4 + index_.capacity() * 4 + sorted_pos_.capacity() * 24 +
+           sorted_source_.capacity() * 2 + cell_start_.capacity() * 4;
+  }
+
+ private:
+  core::HashGridView view() const {
+    return {geometry_.origin, geometry_.cell, geometry_.dim, cell_start_.data(), index_.data(),
+            sorted_pos_.data(), sorted_source_.data()};
+  }
+
+  // Each cue emits floor(step Q) - floor((step-1) Q) particles at its position; ids are
+  // consecutive in (cue, emission) order.
+  void emit(std::uint32_t step) {
+    for (std::size_t k = 0; k < cues_.size(); ++k) {
+      const std::uint32_t count = core::emitted_at(cues_[k].emission, step);
+      for (std::uint32_t j = 0; j < count; ++j) {
+        const std::uint64_t id = next_id_++;
+        pos_.push_back(cues_[k].position);
+        id_.push_back(id);
+        source_.push_back(static_cast<std::uint16_t>(k));
+        if (ballistic_) vel_.push_back(core::birth_velocity(seed_, id, step, params_));
+      }
+    }
+  }
+
+  void move(std::uint32_t step) {
+    keep_.resize(pos_.size());
+    core::Vec3 unused{0, 0, 0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pos_.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          core::Vec3 v = ballistic_ ? vel_[i] : unused;
+                          keep_[i] = core::particle_step(seed_, id_[i], step, pos_[i], v, cues_[source_[i]], params_);
+                          if (ballistic_) vel_[i] = v;
+                        }
+                      });
+  }
+
+  void compact() {
+    StableCompaction c;
+    if (c.plan(keep_) == pos_.size()) return;
+    c.apply(pos_);
+    c.apply(id_);
+    c.apply(source_);
+    if (ballistic_) c.apply(vel_);
+  }
+
+  // Hash, stable sort by bucket, bucket starts, sorted copies for the gathers.
+  void build_grid() {
+    const std::size_t n = pos_.size();
+    const core::HashGridView geometry{geometry_.origin, geometry_.cell, geometry_.dim, nullptr, nullptr, nullptr, nullptr};
+    keys_.resize(n);
+    index_.resize(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      keys_[i] = core::hash_of(pos_[i], geometry);
+      index_[i] = static_cast<std::uint32_t>(i);
+    });
+    const auto buckets = static_cast<std::uint32_t>(geometry_.buckets());
+    stable_sort_by_key(keys_, index_, buckets - 1);
+    cell_starts(keys_, buckets, cell_start_);
+    sorted_pos_.resize(n);
+    sorted_source_.resize(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+      sorted_pos_[k] = pos_[index_[k]];
+      sorted_source_[k] = source_[index_[k]];
+    });
+  }
+
+  // Jacobi: every particle reads the sorted positions and writes its own new position.
+  void collide() {
+    const core::HashGridView g = view();
+    tbb::parallel_for(std::size_t{0}, pos_.size(), [&](std::size_t k) {
+      const std::uint32_t i = index_[k];
+      const core::Vec3 push = core::collision_push(i, sorted_pos_[k], g, params_);
+      pos_[i] = sorted_pos_[k] + push;
+      if (ballistic_) vel_[i] = vel_[i] + push / params_.dt;
+    });
+  }
+
+  std::uint64_t seed_;
+  std::vector<core::CueParams> cues_;
+  core::SenseParams sense_;
+  core::ParticleParams params_;
+  HashGeometry geometry_;
+  bool ballistic_;
+  std::uint64_t next_id_ = 0;
+  // State, in id order.
+  std::vector<core::Vec3> pos_, vel_;
+  std::vector<std::uint64_t> id_;
+  std::vector<std::uint16_t> source_;
+  std::vector<std::uint8_t> keep_;
+  // Grid.
+  std::vector<std::uint32_t> keys_, index_, cell_start_;
+  std::vector<core::Vec3> sorted_pos_;
+  std::vector<std::uint16_t> sorted_source_;
+};
+
+}  // namespace
+
+std::unique_ptr<CueField> make_particle_field(const Scene& scene, const std::vector<core::CueParams>& cues) {
+  return std::make_unique<ParticleField>(scene, cues);
+}
+
+}  // namespace axg

@@ -86,6 +86,11 @@ TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
         R"({"neurons": {"count": 5000, "soma_radius": 0.5, "region": {"radius": 5}, "max_attempts": 50}})");
   write(tmp, "impossible.json", R"({"neurons": {"count": 5000, "soma_radius": 0.9, "region": {"radius": 5}}})");
   write(tmp, "file.txt", "x");
+  write(tmp, "hugegrid.json", R"({"cues": {"field": "grid", "grid": {"spacing": 0.001}}, "cues2": 0})");
+  write(tmp, "hugegrid2.json", R"({"cues": {"field": "grid", "random_sources": {"count": 2}, "grid": {"spacing": 0.001}}})");
+  write(tmp, "nosubsteps.json",
+        R"({"cues": {"field": "grid", "random_sources": {"count": 1}, "grid": {"spacing": 0.05, "scheme": "explicit", "allow_substeps": false}}})");
+  write(tmp, "toomanycues.json", R"({"cues": {"random_sources": {"count": 65}}})");
   std::string args = GetParam().args;
   for (std::size_t p; (p = args.find("{tmp}")) != std::string::npos;) args.replace(p, 5, tmp.path().string());
   const Result r = run(args, tmp);
@@ -106,6 +111,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"run {tmp}/dense.json --out {tmp}/o", 3, "packing fraction"},
         BadRun{"run {tmp}/impossible.json --out {tmp}/o", 3, "exceeds the densest packing"},
         BadRun{"run --out {tmp}/file.txt", 2, "exists and is not a directory"},
+        BadRun{"run {tmp}/hugegrid.json --out {tmp}/o", 2, "unknown key cues2"},
+        BadRun{"run {tmp}/hugegrid2.json --out {tmp}/o", 2, "cues.grid.spacing = 0.001"},
+        BadRun{"run {tmp}/nosubsteps.json --out {tmp}/o", 2, "cues.grid.allow_substeps = false"},
+        BadRun{"run {tmp}/toomanycues.json --out {tmp}/o", 2, "at most 64 cue sources"},
         BadRun{"run --seed -3 --out {tmp}/o", 2, "--seed -3: must be an unsigned 64-bit integer"},
         BadRun{"run --seed 99999999999999999999 --out {tmp}/o", 2, "must be an unsigned 64-bit integer"},
         BadRun{"run --threads -1 --out {tmp}/o", 2, "--threads"},

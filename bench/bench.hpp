@@ -51,4 +51,18 @@ Paired time_paired(const std::function<void()>& peer, const std::function<void()
 // The report's direct-guidance density: 100 neurons in a ball of radius 2.5.
 Scene paper_direct_scene(std::uint64_t neurons);
 
+// Runs `axonguide run` on a scene in a child process (so that its peak memory is its
+// own) and returns wall time, exit status and peak memory from its manifest.
+struct ChildRun {
+  double seconds = 0;
+  double peak_bytes = 0;
+  int status = -1;
+};
+ChildRun run_child(const Scene& scene, int threads, const std::string& backend);
+
+// The report's cue setting (Table 5): radius 2.5 for every size, soma radius scaled to
+// keep packing fraction 0.1, two attractant and two repellent sources at sampled
+// positions. scenes/paper-cue-N.json is this scene (a test checks it).
+Scene paper_cue_scene(std::uint64_t neurons);
+
 }  // namespace axg::bench

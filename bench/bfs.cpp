@@ -125,7 +125,5 @@ std::vector<Row> bfs(const Options& o) {
   return rows;
 }
 
-std::vector<Row> particles(const Options&) { return {}; }
-std::vector<Row> grid(const Options&) { return {}; }
 
 }  // namespace axg::bench

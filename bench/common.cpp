@@ -44,8 +44,24 @@ Paired time_paired(const std::function<void()>& peer, const std::function<void()
 Scene paper_direct_scene(std::uint64_t neurons) {
   Scene s;
   s.neurons.count = neurons;
-  s.neurons.radius = 2.5 * std::cbrt(static_cast<double>(neurons) / 100.0);
+  s.neurons.radius = std::round(2.5 * std::cbrt(static_cast<double>(neurons) / 100.0) * 1e4) / 1e4;
   s.guidance.model = GuidanceModel::kDirect;
+  s.steps = 100;
+  return s;
+}
+
+Scene paper_cue_scene(std::uint64_t neurons) {
+  Scene s;
+  s.neurons.count = neurons;
+  s.neurons.radius = 2.5;
+  s.neurons.soma_radius = std::round(2.5 * std::cbrt(0.1 / static_cast<double>(neurons)) * 1e4) / 1e4;
+  s.guidance.model = GuidanceModel::kSnr;
+  s.cues.field = FieldKind::kParticles;
+  for (CueKind kind : {CueKind::kAttractant, CueKind::kRepellent, CueKind::kAttractant, CueKind::kRepellent}) {
+    Source src;
+    src.kind = kind;
+    s.cues.sources.push_back(src);
+  }
   s.steps = 100;
   return s;
 }

@@ -45,11 +45,7 @@ GrowthRun time_steps(const Scene& scene, const Placement& p, const EngineFactory
   return r;
 }
 
-struct ChildRun {
-  double seconds = 0;
-  double peak_bytes = 0;
-  int status = -1;
-};
+}  // namespace
 
 // Runs `axonguide run SCENE --out DIR -q --threads T` as a child and reads its peak RSS.
 ChildRun run_child(const Scene& scene, int threads, const std::string& backend) {
@@ -84,7 +80,6 @@ ChildRun run_child(const Scene& scene, int threads, const std::string& backend) 
   return r;
 }
 
-}  // namespace
 
 std::vector<Row> growth(const Options& o) {
   std::vector<Row> rows;

@@ -102,10 +102,10 @@ class ParticleField final : public CueField {
   void compact() {
     StableCompaction c;
     if (c.plan(keep_) == pos_.size()) return;
-    c.apply(pos_);
-    c.apply(id_);
-    c.apply(source_);
-    if (ballistic_) c.apply(vel_);
+    c.apply(pos_, pos_scratch_);
+    c.apply(id_, id_scratch_);
+    c.apply(source_, source_scratch_);
+    if (ballistic_) c.apply(vel_, vel_scratch_);
   }
 
   // Hash, stable sort by bucket, bucket starts, sorted copies for the gathers.
@@ -119,7 +119,7 @@ class ParticleField final : public CueField {
       index_[i] = static_cast<std::uint32_t>(i);
     });
     const auto buckets = static_cast<std::uint32_t>(geometry_.buckets());
-    stable_sort_by_key(keys_, index_, buckets - 1);
+    stable_sort_by_key(keys_, index_, buckets - 1, sort_scratch_);
     cell_starts(keys_, buckets, cell_start_);
     sorted_pos_.resize(n);
     sorted_source_.resize(n);
@@ -152,6 +152,11 @@ class ParticleField final : public CueField {
   std::vector<std::uint64_t> id_;
   std::vector<std::uint16_t> source_;
   std::vector<std::uint8_t> keep_;
+  // Scratch kept between steps, so that no step allocates.
+  std::vector<core::Vec3> pos_scratch_, vel_scratch_;
+  std::vector<std::uint64_t> id_scratch_;
+  std::vector<std::uint16_t> source_scratch_;
+  SortScratch sort_scratch_;
   // Grid.
   std::vector<std::uint32_t> keys_, index_, cell_start_;
   std::vector<core::Vec3> sorted_pos_;

@@ -13,14 +13,18 @@ constexpr std::size_t kChunk = 1u << 16;  // elements per histogram chunk
 }  // namespace
 
 void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& values,
-                        std::uint32_t max_key) {
+                        std::uint32_t max_key, SortScratch& scratch) {
   const std::size_t n = keys.size();
   if (n < 2) return;
   int passes = 0;
   for (std::uint64_t span = 1; span <= max_key; span <<= kDigitBits) ++passes;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  std::vector<std::uint32_t> keys2(n), values2(n);
-  std::vector<std::uint32_t> count(chunks * kBuckets);
+  std::vector<std::uint32_t>& keys2 = scratch.keys;
+  std::vector<std::uint32_t>& values2 = scratch.values;
+  std::vector<std::uint32_t>& count = scratch.counts;
+  keys2.resize(n);
+  values2.resize(n);
+  count.resize(chunks * kBuckets);
   for (int pass = 0; pass < passes; ++pass) {
     const int shift = pass * kDigitBits;
     std::fill(count.begin(), count.end(), 0u);

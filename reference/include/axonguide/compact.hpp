@@ -28,10 +28,12 @@ class StableCompaction {
     return offset_.back();
   }
 
-  // Applies the plan to one array (in place via a scratch copy).
+  // Applies the plan to one array; `scratch` receives the survivors and is swapped in
+  // (callers keep it between steps, so that no step allocates).
   template <class T>
-  void apply(std::vector<T>& v) const {
-    std::vector<T> out(offset_.back());
+  void apply(std::vector<T>& v, std::vector<T>& scratch) const {
+    std::vector<T>& out = scratch;
+    out.resize(offset_.back());
     const std::size_t chunks = offset_.size() - 1;
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
       std::size_t o = offset_[c];

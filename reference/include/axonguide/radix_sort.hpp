@@ -8,10 +8,20 @@
 
 namespace axg {
 
+// Scratch of a sort, kept by callers that sort every step.
+struct SortScratch {
+  std::vector<std::uint32_t> keys, values, counts;
+};
+
 // Sorts keys ascending, carrying values along; equal keys keep their input order.
 // max_key bounds the keys (it sets the number of 11-bit passes).
 void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& values,
-                        std::uint32_t max_key);
+                        std::uint32_t max_key, SortScratch& scratch);
+inline void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& values,
+                               std::uint32_t max_key) {
+  SortScratch scratch;
+  stable_sort_by_key(keys, values, max_key, scratch);
+}
 
 // start[c] = first index of key c in the sorted keys, start[num_cells] = keys.size().
 void cell_starts(const std::vector<std::uint32_t>& sorted_keys, std::uint32_t num_cells,

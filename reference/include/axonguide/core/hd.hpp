@@ -10,6 +10,15 @@
 #define AXG_HD
 #endif
 #define AXG_HDI AXG_HD inline
+// For the few hot helpers that the compiler declines to inline on its own (measured: the
+// Rng's block buffer stays in registers only when its user is inlined).
+#if defined(__CUDACC__)
+#define AXG_HDFI __host__ __device__ __forceinline__
+#elif defined(__GNUC__)
+#define AXG_HDFI inline __attribute__((always_inline))
+#else
+#define AXG_HDFI inline
+#endif
 
 namespace axg::core {
 

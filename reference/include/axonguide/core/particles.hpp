@@ -78,13 +78,14 @@ AXG_HDI bool outside_domain(Vec3 x, double radius, bool box) {
   return norm2(x) > radius * radius;
 }
 
-// One step of one particle: move (Brownian x += sigma xi with xi ~ N(0, I) by the polar
-// method, or ballistic x += v dt, v *= 1 - damping), then death by decay (a uniform draw
-// above e^(-k dt)) or by leaving the domain. Returns whether it lives.
+// One step of one particle, all from one stream (kParticleMotion, id, step): move
+// (Brownian x += sigma xi with xi ~ N(0, I) from two polar pairs, or ballistic
+// x += v dt, v *= 1 - damping), then the survival draw: death by decay when the next
+// uniform is not below e^(-k dt), or by leaving the domain. Returns whether it lives.
 AXG_HDI bool particle_step(std::uint64_t seed, std::uint64_t id, std::uint32_t step, Vec3& x, Vec3& v,
                            const CueParams& cue, const ParticleParams& p) {
+  Rng rng(seed, Stream::kParticleMotion, id, step);
   if (p.motion == Motion::kBrownian) {
-    Rng rng(seed, Stream::kParticleMotion, id, step);
     double z0, z1, z2, unused;
     normal_pair(rng, &z0, &z1);
     normal_pair(rng, &z2, &unused);
@@ -93,8 +94,7 @@ AXG_HDI bool particle_step(std::uint64_t seed, std::uint64_t id, std::uint32_t s
     x = x + p.dt * v;
     v = (1.0 - p.damping) * v;
   }
-  Rng fate(seed, Stream::kParticleDecay, id, step);
-  if (!(fate.uniform() < cue.survival)) return false;
+  if (!(rng.uniform() < cue.survival)) return false;
   return !outside_domain(x, p.bounds_radius, p.bounds_box);
 }
 

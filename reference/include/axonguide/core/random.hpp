@@ -27,8 +27,8 @@ enum class Stream : std::uint32_t {
   kAxonDirection = 2,     // id = neuron, step = 0: initial heading
   kSourcePosition = 3,    // id = source index, step = attempt: sampled cue source position
   kParticleEmission = 4,  // id = particle id, step = birth step: offset and velocity at birth
-  kParticleMotion = 5,    // id = particle id, step = step: Brownian / ballistic increment
-  kParticleDecay = 6,     // id = particle id, step = step: survival draw
+  kParticleMotion = 5,    // id = particle id, step = step: Brownian increment, then the survival draw
+  kParticleDecay = 6,     // retired (survival now follows the motion draws of kParticleMotion)
   kSteerDecision = 7,     // id = neuron, step = step, block = cue index: X ~ N(SNR, 1)
   kSteerPerpendicular = 8,// id = neuron, step = step, block = cue index: random g_perp
   kValidation = 9,        // id = point index, step = test index: validation harness

@@ -18,7 +18,7 @@ namespace axg::core {
 // Two independent N(0,1) deviates by Marsaglia's polar method: (a, b) uniform in the
 // square (-1,1)^2, rejected outside the unit disc or at its centre.
 template <class R>
-AXG_HDI void normal_pair(R& rng, double* z0, double* z1) {
+AXG_HDFI void normal_pair(R& rng, double* z0, double* z1) {
   for (;;) {
     const double a = rng.symmetric();
     const double b = rng.symmetric();

@@ -12,6 +12,7 @@
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/fields.hpp"
+#include "axonguide/lod.hpp"
 
 namespace axg {
 
@@ -117,29 +118,13 @@ class GridField final : public CueField {
     }
   }
 
+  // Source, the three LOD sweeps, then the implicit decay c / (1 + k dt).
   void implicit_step(std::size_t k, std::uint32_t step) {
     step_ = step;
     add_source(k, 1.0);
     const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_, reflecting_);
-    const int n = geometry_.n;
-    const std::size_t nn = static_cast<std::size_t>(n);
     double* c = c_[k].data();
-    tbb::enumerable_thread_specific<std::vector<double>> scratch([n] { return std::vector<double>(2 * n); });
-    // Sweep along axis `a`: lines are indexed by the two other coordinates.
-    for (int a = 0; a < 3; ++a) {
-      const std::size_t stride = a == 0 ? 1 : a == 1 ? nn : nn * nn;
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nn * nn), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::vector<double>& buf = scratch.local();
-        for (std::size_t line = r.begin(); line != r.end(); ++line) {
-          const std::size_t p = line / nn, q = line % nn;
-          std::size_t first;
-          if (a == 0) first = (p * nn + q) * nn;     // (z=p, y=q)
-          else if (a == 1) first = p * nn * nn + q;  // (z=p, x=q)
-          else first = p * nn + q;                   // (y=p, x=q)
-          core::lod_line_solve(c, first, stride, n, s.lambda, reflecting_, buf.data(), buf.data() + n);
-        }
-      });
-    }
+    lod_sweeps(c, geometry_.n, s.lambda, reflecting_);
     const double keep = 1.0 / (1.0 + s.decay_dt);
     tbb::parallel_for(std::size_t{0}, c_[k].size(), [&](std::size_t i) { c[i] = c[i] * keep; });
   }

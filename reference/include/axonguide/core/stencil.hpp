@@ -97,33 +97,54 @@ AXG_HDI double ftcs_node(const double* c, int i, int j, int k, const StencilPara
 
 // Backward Euler along one line of n values c[first + m stride], m = 0..n-1:
 //   (1 + 2 lambda) x_m - lambda (x_{m-1} + x_{m+1}) = c_m,
-// with x = 0 at both ends (absorbing) or mirrored ghosts (reflecting). In place; `cp`
-// and `dp` are scratch of n values. Thomas algorithm: every term it adds is >= 0.
+// with x = 0 at both ends (absorbing) or mirrored ghosts (reflecting), solved in place by
+// the Thomas algorithm: every term it adds is >= 0. The forward and backward steps of one
+// row are functions of their own, so that a batched sweep (many lines advanced row by
+// row, for cache locality on the CPU) performs exactly the same operations per line as
+// one GPU thread solving one line.
+struct LodLine {
+  int lo, hi;       // first and last unknown row
+  double lambda;
+  double diag;      // 1 + 2 lambda
+  bool reflecting;
+};
+
+AXG_HDI LodLine lod_line(int n, double lambda, bool reflecting) {
+  return {reflecting ? 0 : 1, reflecting ? n - 1 : n - 2, lambda, 1.0 + 2.0 * lambda, reflecting};
+}
+
+// Forward elimination of row m: from (cp, dp) of row m-1 (ignored when m == lo) and the
+// right-hand side, the (cp, dp) of row m. Coefficient magnitudes: sub-diagonal a,
+// super-diagonal b; a mirrored ghost doubles the coupling of a reflecting end row.
+AXG_HDI void lod_forward(const LodLine& l, int m, double rhs, double cp_prev, double dp_prev, double* cp,
+                         double* dp) {
+  double a = m == l.lo ? 0.0 : l.lambda;
+  double b = m == l.hi ? 0.0 : l.lambda;
+  if (l.reflecting && m == l.lo && l.lo != l.hi) b = 2.0 * l.lambda;
+  if (l.reflecting && m == l.hi && l.lo != l.hi) a = 2.0 * l.lambda;
+  const double denom = m == l.lo ? l.diag : l.diag - a * cp_prev;
+  *cp = b / denom;
+  *dp = m == l.lo ? rhs / denom : (rhs + a * dp_prev) / denom;
+}
+
+// Back substitution of row m given the solution of row m+1.
+AXG_HDI double lod_backward(double cp, double dp, double next) { return dp + cp * next; }
+
 AXG_HDI void lod_line_solve(double* c, std::size_t first, std::size_t stride, int n, double lambda, bool reflecting,
                             double* cp, double* dp) {
-  const int lo = reflecting ? 0 : 1, hi = reflecting ? n - 1 : n - 2;
+  const LodLine l = lod_line(n, lambda, reflecting);
   if (!reflecting) {
     c[first] = 0.0;
     c[first + static_cast<std::size_t>(n - 1) * stride] = 0.0;
   }
-  if (hi < lo) return;
-  const double diag = 1.0 + 2.0 * lambda;
-  for (int m = lo; m <= hi; ++m) {
-    // Row m: a x_{m-1} + diag x_m + b x_{m+1} = c_m with a = b = -lambda, except that a
-    // mirrored ghost doubles the coupling of the first and last reflecting rows.
-    double a = m == lo ? 0.0 : lambda;      // magnitude of the sub-diagonal
-    double b = m == hi ? 0.0 : lambda;      // magnitude of the super-diagonal
-    if (reflecting && m == lo && lo != hi) b = 2.0 * lambda;
-    if (reflecting && m == hi && lo != hi) a = 2.0 * lambda;
-    const double rhs = c[first + static_cast<std::size_t>(m) * stride];
-    const double denom = m == lo ? diag : diag - a * cp[m - 1];
-    cp[m] = b / denom;
-    dp[m] = m == lo ? rhs / denom : (rhs + a * dp[m - 1]) / denom;
-  }
-  double next = dp[hi];
-  c[first + static_cast<std::size_t>(hi) * stride] = next;
-  for (int m = hi - 1; m >= lo; --m) {
-    next = dp[m] + cp[m] * next;
+  if (l.hi < l.lo) return;
+  for (int m = l.lo; m <= l.hi; ++m)
+    lod_forward(l, m, c[first + static_cast<std::size_t>(m) * stride], m == l.lo ? 0.0 : cp[m - 1],
+                m == l.lo ? 0.0 : dp[m - 1], &cp[m], &dp[m]);
+  double next = dp[l.hi];
+  c[first + static_cast<std::size_t>(l.hi) * stride] = next;
+  for (int m = l.hi - 1; m >= l.lo; --m) {
+    next = lod_backward(cp[m], dp[m], next);
     c[first + static_cast<std::size_t>(m) * stride] = next;
   }
 }

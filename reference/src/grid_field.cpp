@@ -18,6 +18,9 @@ namespace axg {
 
 namespace {
 
+// Storage: two buffers of K n^3 values; cue k's current values are in buffer cur_[k]
+// (the explicit scheme alternates buffers per sub-step, and cues may need different
+// numbers of sub-steps). The implicit scheme works in place in buffer 0.
 class GridField final : public CueField {
  public:
   GridField(const Scene& scene, const std::vector<core::CueParams>& cues)
@@ -28,9 +31,10 @@ class GridField final : public CueField {
         dt_(scene.dt),
         amount_(scene.cues.particles.amount) {
     const std::size_t nodes = geometry_.nodes();
-    c_.assign(cues_.size(), std::vector<double>(nodes, 0.0));
+    buffer_[0].assign(cues_.size() * nodes, 0.0);
+    cur_.assign(cues_.size(), 0);
     if (scheme_ == GridScheme::kExplicit) {
-      next_.assign(nodes, 0.0);
+      buffer_[1].assign(cues_.size() * nodes, 0.0);
       for (const auto& cue : cues_) substeps_.push_back(explicit_substeps(cue, geometry_.h, dt_));
       const std::uint32_t worst = *std::max_element(substeps_.begin(), substeps_.end());
       if (worst > 1 && !scene.cues.grid.allow_substeps)
@@ -51,14 +55,10 @@ class GridField final : public CueField {
   }
 
   void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
-    for (std::size_t k = 0; k < cues_.size(); ++k) {
-      samples[k] = core::trilinear_sample(x, view(k));
-      const double n = core::norm(samples[k].grad);
-      pull[k] = n > 0.0 ? (cues_[k].sign / n) * samples[k].grad : core::Vec3{0, 0, 0};
-    }
+    core::sample_grid_field(x, field_set(), cues_.data(), static_cast<int>(cues_.size()), samples, pull);
   }
 
-  std::size_t bytes() const override { return (c_.size() * geometry_.nodes() + next_.size()) * sizeof(double); }
+  std::size_t bytes() const override { return (buffer_[0].size() + buffer_[1].size()) * sizeof(double); }
 
   std::string note() const override {
     if (scheme_ != GridScheme::kExplicit) return fmt::format("implicit LOD grid, {}^3 nodes, h = {}", geometry_.n, geometry_.h);
@@ -66,67 +66,53 @@ class GridField final : public CueField {
                        *std::max_element(substeps_.begin(), substeps_.end()));
   }
 
-  const std::vector<std::uint32_t>& substeps() const { return substeps_; }
-
  private:
-  core::GridFieldView view(std::size_t k) const { return {geometry_.origin, geometry_.h, geometry_.n, c_[k].data()}; }
+  double* values(std::size_t k, int buffer) { return buffer_[buffer].data() + k * geometry_.nodes(); }
 
-  // The source adds a Q dt/dt = a Q per step, spread trilinearly over the 8 nodes around
-  // it and divided by the node volume h^3; `fraction` splits it across sub-steps.
-  void add_source(std::size_t k, double fraction) {
-    const core::CueParams& cue = cues_[k];
-    const double total = amount_ * core::emitted_at(cue.emission, step_) * fraction;
+  core::GridFieldSet field_set() const {
+    core::GridFieldSet set{geometry_.origin, geometry_.h, geometry_.n, {}};
+    for (std::size_t k = 0; k < cues_.size(); ++k)
+      set.c[k] = buffer_[cur_[k]].data() + k * geometry_.nodes();
+    return set;
+  }
+
+  // a Q per step (the emission of this step) deposited around the source; `fraction`
+  // splits it across sub-steps.
+  void add_source(std::size_t k, std::uint32_t step, double fraction) {
+    const double total = amount_ * core::emitted_at(cues_[k].emission, step) * fraction;
     if (total == 0.0) return;
-    const int n = geometry_.n;
-    auto locate = [&](double v, double o, int* i, double* f) {
-      double t = (v - o) / geometry_.h;
-      t = std::clamp(t, 0.0, static_cast<double>(n - 1));
-      int c = std::min(static_cast<int>(t), n - 2);
-      *i = c;
-      *f = t - c;
-    };
-    int i, j, l;
-    double fx, fy, fz;
-    locate(cue.position.x, geometry_.origin.x, &i, &fx);
-    locate(cue.position.y, geometry_.origin.y, &j, &fy);
-    locate(cue.position.z, geometry_.origin.z, &l, &fz);
-    const double per_volume = total / (geometry_.h * geometry_.h * geometry_.h);
-    std::vector<double>& c = c_[k];
-    for (int dz = 0; dz <= 1; ++dz)
-      for (int dy = 0; dy <= 1; ++dy)
-        for (int dx = 0; dx <= 1; ++dx) {
-          const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy) * (dz ? fz : 1.0 - fz);
-          c[core::node_index(i + dx, j + dy, l + dz, n)] += w * per_volume;
-        }
+    const core::SourceDeposit d =
+        core::source_deposit(cues_[k].position, total, geometry_.origin, geometry_.h, geometry_.n);
+    double* c = values(k, cur_[k]);
+    for (int m = 0; m < 8; ++m) c[d.index[m]] += d.value[m];
   }
 
   void explicit_step(std::size_t k, std::uint32_t step) {
-    step_ = step;
     const std::uint32_t m = substeps_[k];
     const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_ / m, reflecting_);
     const int n = geometry_.n;
     for (std::uint32_t sub = 0; sub < m; ++sub) {
-      add_source(k, 1.0 / m);
-      const double* in = c_[k].data();
+      add_source(k, step, 1.0 / m);
+      const double* in = values(k, cur_[k]);
+      double* out = values(k, 1 - cur_[k]);
       tbb::parallel_for(tbb::blocked_range<int>(0, n * n), [&](const tbb::blocked_range<int>& r) {
         for (int row = r.begin(); row != r.end(); ++row) {
           const int zk = row / n, yj = row % n;
-          for (int xi = 0; xi < n; ++xi) next_[core::node_index(xi, yj, zk, n)] = core::ftcs_node(in, xi, yj, zk, s);
+          for (int xi = 0; xi < n; ++xi) out[core::node_index(xi, yj, zk, n)] = core::ftcs_node(in, xi, yj, zk, s);
         }
       });
-      c_[k].swap(next_);
+      cur_[k] = 1 - cur_[k];
     }
   }
 
   // Source, the three LOD sweeps, then the implicit decay c / (1 + k dt).
   void implicit_step(std::size_t k, std::uint32_t step) {
-    step_ = step;
-    add_source(k, 1.0);
+    add_source(k, step, 1.0);
     const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_, reflecting_);
-    double* c = c_[k].data();
+    double* c = values(k, 0);
     lod_sweeps(c, geometry_.n, s.lambda, reflecting_);
     const double keep = 1.0 / (1.0 + s.decay_dt);
-    tbb::parallel_for(std::size_t{0}, c_[k].size(), [&](std::size_t i) { c[i] = c[i] * keep; });
+    tbb::parallel_for(std::size_t{0}, geometry_.nodes(), [&](std::size_t i) { c[i] = c[i] * keep; });
   }
 
   std::vector<core::CueParams> cues_;
@@ -134,9 +120,8 @@ class GridField final : public CueField {
   GridScheme scheme_;
   bool reflecting_;
   double dt_, amount_;
-  std::uint32_t step_ = 0;
-  std::vector<std::vector<double>> c_;
-  std::vector<double> next_;
+  std::vector<double> buffer_[2];
+  std::vector<int> cur_;
   std::vector<std::uint32_t> substeps_;
 };
 
@@ -146,11 +131,7 @@ class AnalyticField final : public CueField {
       : cues_(cues), sense_(sense_params(scene)) {}
   void advance(std::uint32_t, PhaseTimes&) override {}
   void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
-    for (std::size_t k = 0; k < cues_.size(); ++k) {
-      samples[k] = core::analytic_sample(x, cues_[k], sense_);
-      const double n = core::norm(samples[k].grad);
-      pull[k] = n > 0.0 ? (cues_[k].sign / n) * samples[k].grad : core::Vec3{0, 0, 0};
-    }
+    core::sample_analytic_field(x, cues_.data(), static_cast<int>(cues_.size()), sense_, samples, pull);
   }
   std::size_t bytes() const override { return 0; }
 

@@ -52,9 +52,7 @@ class ParticleField final : public CueField {
   }
 
   void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
-    core::particle_gather(x, view(), cues_.data(), static_cast<int>(cues_.size()), sense_,
-                          true, samples, pull);
-    for (std::size_t k = 0; k < cues_.size(); ++k) pull[k] = cues_[k].sign * pull[k];
+    core::sample_particle_field(x, view(), cues_.data(), static_cast<int>(cues_.size()), sense_, samples, pull);
   }
 
   std::uint64_t particles() const override { return pos_.size(); }

@@ -4,6 +4,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "axonguide/core/cellgrid.hpp"
+
 namespace axg {
 
 namespace {
@@ -60,13 +62,8 @@ void cell_starts(const std::vector<std::uint32_t>& sorted_keys, std::uint32_t nu
                  std::vector<std::uint32_t>& start) {
   start.assign(static_cast<std::size_t>(num_cells) + 1, 0);
   const std::size_t n = sorted_keys.size();
-  // Each boundary between different keys writes the starts of the cells it spans; the
-  // writes of different boundaries never overlap.
   tbb::parallel_for(std::size_t{0}, n + 1, [&](std::size_t k) {
-    const std::uint32_t prev = k == 0 ? 0 : sorted_keys[k - 1] + 1;
-    const std::uint32_t here = k == n ? num_cells : sorted_keys[k];
-    if (k != 0 && k != n && sorted_keys[k - 1] == sorted_keys[k]) return;
-    for (std::uint32_t c = prev; c <= here; ++c) start[c] = static_cast<std::uint32_t>(k);
+    core::fill_cell_starts(k, sorted_keys.data(), n, num_cells, start.data());
   });
 }
 

@@ -2,6 +2,7 @@
 // A uniform grid over sorted entities: entity k of cell c sits at positions
 // [cell_start[c], cell_start[c+1]) of `ids`/`pos`, sorted by (cell, id). Built by hashing
 // and a stable sort (never by atomic insertion), so its content is deterministic.
+#include <cstddef>
 #include <cstdint>
 
 #include "hd.hpp"
@@ -37,6 +38,17 @@ AXG_HDI std::uint32_t cell_of(Vec3 p, const CellGridView& g) {
   return cell_index(cell_coord(p.x, g.origin.x, g.cell, g.nx),
                     cell_coord(p.y, g.origin.y, g.cell, g.ny),
                     cell_coord(p.z, g.origin.z, g.cell, g.nz), g.nx, g.ny);
+}
+
+// Cell starts from keys sorted ascending: task k (0..n) handles the boundary before
+// element k and writes start[c] = k for every cell c in (key[k-1], key[k]] (cells 0..key[0]
+// for k = 0, the cells after the last key for k = n). Boundaries never write the same cell.
+AXG_HDI void fill_cell_starts(std::size_t k, const std::uint32_t* sorted_keys, std::size_t n,
+                              std::uint32_t num_cells, std::uint32_t* start) {
+  if (k != 0 && k != n && sorted_keys[k - 1] == sorted_keys[k]) return;
+  const std::uint32_t first = k == 0 ? 0 : sorted_keys[k - 1] + 1;
+  const std::uint32_t last = k == n ? num_cells : sorted_keys[k];
+  for (std::uint32_t c = first; c <= last; ++c) start[c] = static_cast<std::uint32_t>(k);
 }
 
 }  // namespace axg::core

@@ -155,4 +155,12 @@ AXG_HDI void particle_gather(Vec3 x, const HashGridView& g, const CueParams* cue
   for (int k = 0; k < cue_count; ++k) samples[k] = particle_sample(count[k], sum[k], p);
 }
 
+// Every cue's sample and signed pull (sum of unit vectors toward the source, times the
+// cue's sign) from the particle field.
+AXG_HDI void sample_particle_field(Vec3 x, const HashGridView& g, const CueParams* cues, int cue_count,
+                                   const SenseParams& p, CueSample* samples, Vec3* pull) {
+  particle_gather(x, g, cues, cue_count, p, true, samples, pull);
+  for (int k = 0; k < cue_count; ++k) pull[k] = cues[k].sign * pull[k];
+}
+
 }  // namespace axg::core

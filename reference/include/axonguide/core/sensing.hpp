@@ -30,6 +30,16 @@ AXG_HDI CueSample analytic_sample(Vec3 x, const CueParams& cue, const SenseParam
   return {c, (dcdr / r) * d};
 }
 
+// Every cue's value and signed unit gradient (its vector_sum pull), analytically.
+AXG_HDI void sample_analytic_field(Vec3 x, const CueParams* cues, int cue_count, const SenseParams& p,
+                                   CueSample* samples, Vec3* pull) {
+  for (int k = 0; k < cue_count; ++k) {
+    samples[k] = analytic_sample(x, cues[k], p);
+    const double n = norm(samples[k].grad);
+    pull[k] = n > 0.0 ? (cues[k].sign / n) * samples[k].grad : Vec3{0.0, 0.0, 0.0};
+  }
+}
+
 struct Detection {
   bool detected;
   double gamma;  // C / K_d

@@ -67,6 +67,62 @@ AXG_HDI CueSample trilinear_sample(Vec3 x, const GridFieldView& g) {
   return {value, Vec3{ddx, ddy, ddz} / g.h};
 }
 
+// The grids of all cues (cue k's n^3 values at c[k]).
+struct GridFieldSet {
+  Vec3 origin;  // LU, node (0,0,0)
+  double h;     // LU
+  int n;        // nodes per axis
+  const double* c[kMaxCues];
+};
+
+AXG_HDI GridFieldView cue_view(const GridFieldSet& s, int k) { return {s.origin, s.h, s.n, s.c[k]}; }
+
+// Every cue's value and signed unit gradient (its vector_sum pull) from the grids.
+AXG_HDI void sample_grid_field(Vec3 x, const GridFieldSet& set, const CueParams* cues, int cue_count,
+                               CueSample* samples, Vec3* pull) {
+  for (int k = 0; k < cue_count; ++k) {
+    samples[k] = trilinear_sample(x, cue_view(set, k));
+    const double n = norm(samples[k].grad);
+    pull[k] = n > 0.0 ? (cues[k].sign / n) * samples[k].grad : Vec3{0.0, 0.0, 0.0};
+  }
+}
+
+// A source adds `total` (concentration x LU^3) per step, spread trilinearly over the 8
+// nodes around its position and divided by the node volume h^3. Applied in index order.
+struct SourceDeposit {
+  std::size_t index[8];
+  double value[8];
+};
+
+AXG_HDI SourceDeposit source_deposit(Vec3 p, double total, Vec3 origin, double h, int n) {
+  auto locate = [&](double v, double o, int* i, double* f) {
+    double t = (v - o) / h;
+    const double hi = static_cast<double>(n - 1);
+    if (!(t > 0.0)) t = 0.0;
+    if (t > hi) t = hi;
+    int c = static_cast<int>(t);
+    if (c > n - 2) c = n - 2;
+    *i = c;
+    *f = t - static_cast<double>(c);
+  };
+  int i, j, l;
+  double fx, fy, fz;
+  locate(p.x, origin.x, &i, &fx);
+  locate(p.y, origin.y, &j, &fy);
+  locate(p.z, origin.z, &l, &fz);
+  const double per_volume = total / (h * h * h);
+  SourceDeposit d{};
+  int m = 0;
+  for (int dz = 0; dz <= 1; ++dz)
+    for (int dy = 0; dy <= 1; ++dy)
+      for (int dx = 0; dx <= 1; ++dx, ++m) {
+        const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy) * (dz ? fz : 1.0 - fz);
+        d.index[m] = node_index(i + dx, j + dy, l + dz, n);
+        d.value[m] = w * per_volume;
+      }
+  return d;
+}
+
 struct StencilParams {
   int n;            // nodes per axis
   double lambda;    // D dt / h^2 for one (sub-)step

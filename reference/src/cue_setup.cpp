@@ -146,6 +146,16 @@ core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams
   return s;
 }
 
+std::string grid_field_note(const Scene& scene, const std::vector<core::CueParams>& cues) {
+  if (!scene.uses_cues() || scene.cues.field != FieldKind::kGrid) return {};
+  const GridGeometry3 g = grid_field_geometry(scene);
+  if (scene.cues.grid.scheme == GridScheme::kImplicit)
+    return fmt::format("implicit LOD grid, {}^3 nodes, h = {}", g.n, g.h);
+  std::uint32_t worst = 1;
+  for (const auto& c : cues) worst = std::max(worst, explicit_substeps(c, g.h, scene.dt));
+  return fmt::format("explicit grid, {}^3 nodes, h = {}, sub-steps per step: {}", g.n, g.h, worst);
+}
+
 double expected_particles(const Scene& scene) {
   double total = 0;
   for (const auto& c : make_cues(scene)) {

@@ -29,7 +29,8 @@ class GridField final : public CueField {
         scheme_(scene.cues.grid.scheme),
         reflecting_(scene.cues.grid.boundary == GridBoundary::kReflecting),
         dt_(scene.dt),
-        amount_(scene.cues.particles.amount) {
+        amount_(scene.cues.particles.amount),
+        note_(grid_field_note(scene, cues)) {
     const std::size_t nodes = geometry_.nodes();
     buffer_[0].assign(cues_.size() * nodes, 0.0);
     cur_.assign(cues_.size(), 0);
@@ -60,11 +61,7 @@ class GridField final : public CueField {
 
   std::size_t bytes() const override { return (buffer_[0].size() + buffer_[1].size()) * sizeof(double); }
 
-  std::string note() const override {
-    if (scheme_ != GridScheme::kExplicit) return fmt::format("implicit LOD grid, {}^3 nodes, h = {}", geometry_.n, geometry_.h);
-    return fmt::format("explicit grid, {}^3 nodes, h = {}, sub-steps per step: {}", geometry_.n, geometry_.h,
-                       *std::max_element(substeps_.begin(), substeps_.end()));
-  }
+  std::string note() const override { return note_; }
 
  private:
   double* values(std::size_t k, int buffer) { return buffer_[buffer].data() + k * geometry_.nodes(); }
@@ -120,6 +117,7 @@ class GridField final : public CueField {
   GridScheme scheme_;
   bool reflecting_;
   double dt_, amount_;
+  std::string note_;
   std::vector<double> buffer_[2];
   std::vector<int> cur_;
   std::vector<std::uint32_t> substeps_;

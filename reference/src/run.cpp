@@ -39,15 +39,21 @@ GraphAnalysis analyze_graph(const Scene& scene, const NeuronState& neurons) {
   }
   if (scene.analysis.components) {
     a.component = components(undirected(a.out));
-    std::vector<std::uint32_t> size(n, 0);
-    for (std::uint32_t c : a.component) ++size[c];
-    for (std::size_t v = 0; v < n; ++v)
-      if (size[v] != 0) {
-        ++a.component_count;
-        a.largest_component = std::max<std::size_t>(a.largest_component, size[v]);
-      }
+    summarize_components(a);
   }
   return a;
+}
+
+void summarize_components(GraphAnalysis& a) {
+  std::vector<std::uint32_t> size(a.component.size(), 0);
+  for (std::uint32_t c : a.component) ++size[c];
+  a.component_count = 0;
+  a.largest_component = 0;
+  for (std::size_t v = 0; v < size.size(); ++v)
+    if (size[v] != 0) {
+      ++a.component_count;
+      a.largest_component = std::max<std::size_t>(a.largest_component, size[v]);
+    }
 }
 
 RunResult run_scene(const Scene& scene, const RunOptions& options) {
@@ -98,11 +104,14 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     ScopedPhase p(r.times, 0, "readback");
     engine->finish(r.neurons);
   }
-  engine.reset();
   {
     ScopedPhase p(r.times, 0, "graph");
-    r.graph = analyze_graph(scene, r.neurons);
+    if (!engine->analyze(scene, r.graph)) {
+      engine.reset();
+      r.graph = analyze_graph(scene, r.neurons);
+    }
   }
+  engine.reset();
   return r;
 }
 

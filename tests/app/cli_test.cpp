@@ -73,6 +73,8 @@ struct BadRun {
   std::string expect;
 };
 
+void PrintTo(const BadRun& b, std::ostream* os) { *os << b.args; }
+
 class CliBadInput : public ::testing::TestWithParam<BadRun> {};
 
 TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
@@ -122,7 +124,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"frobnicate", 2, "unknown command 'frobnicate'"}),
     [](const auto& info) { return std::to_string(info.index); });
 
-#if !AXG_TEST_HAVE_CUDA
+#if !AXG_HAVE_CUDA_ENGINE
 TEST(cli, CudaBackendNotBuiltExitsTwo) {
   test::TempDir tmp;
   const Result r = run(fmt::format("run --backend cuda --out {}/o", tmp.path().string()), tmp);

@@ -58,6 +58,8 @@ const Variant kVariants[] = {
     {"analytic_vector_sum", FieldKind::kAnalytic, GuidanceModel::kVectorSum, [](Scene&) {}},
 };
 
+void PrintTo(const Variant& v, std::ostream* os) { *os << v.name; }
+
 class FieldVariant : public ::testing::TestWithParam<Variant> {};
 
 TEST_P(FieldVariant, ThreadCountNeverChangesAByte) {

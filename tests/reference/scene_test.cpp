@@ -41,6 +41,8 @@ struct Bad {
   const char* expect;  // a substring of the message
 };
 
+void PrintTo(const Bad& b, std::ostream* os) { *os << b.expect; }
+
 class BadScene : public ::testing::TestWithParam<Bad> {};
 
 TEST_P(BadScene, IsRejectedWithAClearMessage) {

@@ -3,6 +3,7 @@
 // them hand identical numbers to the core/ functions. Source positions that the scene
 // leaves to sampling are drawn here (host code, like placement).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "axonguide/core/cues.hpp"
@@ -41,6 +42,10 @@ GridGeometry3 grid_field_geometry(const Scene& scene);
 // Explicit sub-steps needed by cue k: ceil(dt (6 D / h^2 + k)).
 std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt);
 core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams& cue, double dt, bool reflecting);
+
+// The summary line of a grid field ("explicit grid, 109^3 nodes, h = 0.1, sub-steps per
+// step: 14"); empty for other fields.
+std::string grid_field_note(const Scene& scene, const std::vector<core::CueParams>& cues);
 
 // Bytes the cue fields of this scene need (0 for direct guidance); checked against the
 // machine before allocation (the grid field refuses with exit 2, as a scene error).

@@ -4,14 +4,27 @@
 // grows or the steps run out, then reads the results back. The reference and the CUDA
 // accelerator implement this interface with the same core/ functions.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "axonguide/graph.hpp"
 #include "axonguide/placement.hpp"
 #include "axonguide/scene.hpp"
 #include "axonguide/state.hpp"
 
 namespace axg {
+
+struct GraphAnalysis {
+  Csr out;                                // connections by source
+  std::optional<BfsResult> bfs;           // when analysis.bfs_sources is non-empty
+  std::vector<std::uint32_t> component;   // when analysis.components
+  std::size_t component_count = 0;
+  std::size_t largest_component = 0;
+};
+
+// Fills component_count and largest_component from `component`.
+void summarize_components(GraphAnalysis& a);
 
 class Engine {
  public:
@@ -26,6 +39,14 @@ class Engine {
   virtual std::size_t bytes() const = 0;
   // A line about the cue field for the summary and the manifest (may be empty).
   virtual std::string note() const { return {}; }
+  // The graph analysis of SPEC §3.6 on this backend, after finish(); false means "use
+  // the host's" (the reference engine). The accelerator builds the CSR and runs BFS and
+  // components on the device.
+  virtual bool analyze(const Scene& scene, GraphAnalysis& out) {
+    (void)scene;
+    (void)out;
+    return false;
+  }
 };
 
 // Bytes per neuron the reference engine needs (for memory estimates before allocation).

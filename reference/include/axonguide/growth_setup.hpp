@@ -18,9 +18,8 @@ inline core::GrowthParams growth_params(const Scene& s) {
   return g;
 }
 
-// The tip starts on the soma surface: x = p + r_s h.
 inline core::Vec3 axon_start(core::Vec3 soma, core::Vec3 heading, const Scene& s) {
-  return soma + s.neurons.soma_radius * heading;
+  return core::axon_start(soma, heading, s.neurons.soma_radius);
 }
 
 // The soma grid covers the region; cells are at least one contact diameter wide and

@@ -25,14 +25,6 @@ struct RunOptions {
   std::function<void(const StepStats&, std::uint32_t steps)> on_step;
 };
 
-struct GraphAnalysis {
-  Csr out;                                // connections by source
-  std::optional<BfsResult> bfs;           // when analysis.bfs_sources is non-empty
-  std::vector<std::uint32_t> component;   // when analysis.components
-  std::size_t component_count = 0;
-  std::size_t largest_component = 0;
-};
-
 struct RunResult {
   Scene scene;  // as run (seed overrides applied)
   std::vector<core::Vec3> soma;

@@ -27,6 +27,9 @@ struct AxonStep {
   std::uint32_t target;   // kNoNeuron unless connected
 };
 
+// The tip starts on the soma surface: x = p + r_s h.
+AXG_HDI Vec3 axon_start(Vec3 soma, Vec3 heading, double soma_radius) { return soma + soma_radius * heading; }
+
 AXG_HDI bool outside_bounds(Vec3 p, const GrowthParams& g) {
   if (g.bounds_box) {
     const double r = g.bounds_radius;

@@ -1,0 +1,39 @@
+#pragma once
+// The accelerator: the per-step pipeline of the reference, written once against Thrust
+// (kernels are functors that call core/ functions) and built twice:
+// - on the GPU (nvcc, Thrust's CUDA system: CUB radix sorts, one thread per entity);
+// - on the CPU (g++, Thrust's sequential CPP system): the same kernels, launched by a host
+//   loop, so that CI checks the pipeline's logic byte for byte without a GPU.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "axonguide/engine.hpp"
+#include "axonguide/graph.hpp"
+
+namespace axg::accel {
+
+// True when this build contains the CUDA engine.
+bool cuda_built();
+
+// The CUDA engine. Throws InputError when it was not built (exit 2) and RunError (exit
+// 3) when no usable GPU is present (with the CUDA error text) or when the scene's device
+// memory estimate exceeds the GPU's free memory.
+std::unique_ptr<Engine> make_cuda_engine(const Scene& scene, const Placement& placement);
+// "NVIDIA H100 80GB HBM3, compute 9.0, 79.1 GiB" or the reason there is none.
+std::string cuda_device_description();
+
+// The same pipeline on the CPU (Thrust's sequential host system).
+std::unique_ptr<Engine> make_emulated_engine(const Scene& scene, const Placement& placement);
+
+// The graph kernels on their own (for tests and benchmarks): the report's level-
+// synchronous BFS (one thread per vertex), the work-efficient queue-based BFS, and
+// components by min-label propagation. `gpu` selects the CUDA build.
+BfsResult bfs_level_sync(const Csr& g, const std::vector<std::uint32_t>& sources, bool gpu);
+BfsResult bfs_queue(const Csr& g, const std::vector<std::uint32_t>& sources, bool gpu);
+std::vector<std::uint32_t> components(const Csr& g, bool gpu);
+
+// Device bytes the accelerator needs for the scene (estimated before allocation).
+std::uint64_t estimate_device_bytes(const Scene& scene);
+
+}  // namespace axg::accel

@@ -1,0 +1,93 @@
+// Dispatch between the builds, device checks and the device memory estimate.
+#include <fmt/format.h>
+
+#include "axonguide/accel/engines.hpp"
+#include "axonguide/cue_setup.hpp"
+#include "axonguide/error.hpp"
+#include "backends.hpp"
+
+namespace axg::accel {
+
+bool cuda_built() { return AXG_HAVE_CUDA_ENGINE != 0; }
+
+std::uint64_t estimate_device_bytes(const Scene& scene) {
+  const double n = static_cast<double>(scene.neurons.count);
+  // ids, soma keys/starts, sorted positions, tip, heading, length, status, steps,
+  // target (slot and id order), two active lists, download scratch.
+  double bytes = n * (4 + 8 + 24 + 24 + 24 + 8 + 1 + 4 + 4 + 4 + 8 + 24);
+  if (scene.uses_cues()) {
+    if (scene.cues.field == FieldKind::kParticles) {
+      // position, velocity, id, source, keep, scratch copies, keys, index, sorted copies
+      bytes += expected_particles(scene) * (24 * 2 + 8 * 2 + 2 * 2 + 1 + 24 * 2 + 4 * 2 + 24 + 2) * 1.5;
+      bytes += static_cast<double>(particle_hash_geometry(scene).buckets()) * 4;
+    } else if (scene.cues.field == FieldKind::kGrid) {
+      const double nodes = static_cast<double>(grid_field_geometry(scene).nodes());
+      bytes += nodes * 8 * (scene.source_count() * (scene.cues.grid.scheme == GridScheme::kExplicit ? 2.0 : 1.0) + 2.0);
+    }
+  }
+  return bytes >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
+}
+
+std::unique_ptr<Engine> make_emulated_engine(const Scene& scene, const Placement& placement) {
+  return emu::make_engine(scene, placement);
+}
+
+#if AXG_HAVE_CUDA_ENGINE
+std::unique_ptr<Engine> make_cuda_engine(const Scene& scene, const Placement& placement) {
+  gpu::require_device();
+  std::uint64_t free_bytes = 0, total_bytes = 0;
+  gpu::device_memory(&free_bytes, &total_bytes);
+  const std::uint64_t need = estimate_device_bytes(scene);
+  if (need > free_bytes)
+    throw RunError(fmt::format("--backend cuda: the scene needs an estimated {} of device memory; the GPU has {} free of {}",
+                               human_bytes(static_cast<double>(need)), human_bytes(static_cast<double>(free_bytes)),
+                               human_bytes(static_cast<double>(total_bytes))));
+  return gpu::make_engine(scene, placement);
+}
+std::string cuda_device_description() { return gpu::device_description(); }
+#else
+std::unique_ptr<Engine> make_cuda_engine(const Scene&, const Placement&) {
+  throw InputError(
+      "--backend cuda: not built: this axonguide was configured without the CUDA accelerator (no nvcc was found); "
+      "rebuild with the CUDA toolkit installed, or use --backend reference");
+}
+std::string cuda_device_description() { return "not built (no nvcc when axonguide was configured)"; }
+#endif
+
+BfsResult bfs_level_sync(const Csr& g, const std::vector<std::uint32_t>& sources, bool on_gpu) {
+#if AXG_HAVE_CUDA_ENGINE
+  if (on_gpu) {
+    gpu::require_device();
+    return gpu::bfs_level_sync(g, sources);
+  }
+#else
+  if (on_gpu) throw InputError("the CUDA accelerator was not built");
+#endif
+  return emu::bfs_level_sync(g, sources);
+}
+
+BfsResult bfs_queue(const Csr& g, const std::vector<std::uint32_t>& sources, bool on_gpu) {
+#if AXG_HAVE_CUDA_ENGINE
+  if (on_gpu) {
+    gpu::require_device();
+    return gpu::bfs_queue(g, sources);
+  }
+#else
+  if (on_gpu) throw InputError("the CUDA accelerator was not built");
+#endif
+  return emu::bfs_queue(g, sources);
+}
+
+std::vector<std::uint32_t> components(const Csr& g, bool on_gpu) {
+#if AXG_HAVE_CUDA_ENGINE
+  if (on_gpu) {
+    gpu::require_device();
+    return gpu::components(g);
+  }
+#else
+  if (on_gpu) throw InputError("the CUDA accelerator was not built");
+#endif
+  return emu::components(g);
+}
+
+}  // namespace axg::accel

@@ -1,0 +1,94 @@
+// The accelerator on the GPU against the reference, byte for byte (label gpu). Without a
+// GPU (or without the CUDA build) every test reports SKIPPED with the reason.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include "accel/backend_cases.hpp"
+#include "axonguide/accel/engines.hpp"
+
+namespace axg {
+namespace {
+
+const EngineFactory kCuda = [](const Scene& s, const Placement& p) { return accel::make_cuda_engine(s, p); };
+
+// Empty when the GPU can run; otherwise why not.
+std::string why_no_gpu() {
+  if (!accel::cuda_built()) return "the CUDA accelerator was not built (no nvcc at configure time)";
+  try {
+    Scene probe;
+    probe.neurons.count = 1;
+    probe.guidance.model = GuidanceModel::kDirect;
+    Placement p;
+    p.soma = {{0, 0, 0}};
+    p.heading = {{1, 0, 0}};
+    accel::make_cuda_engine(probe, p);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return {};
+}
+
+#define SKIP_WITHOUT_GPU()                                     \
+  do {                                                         \
+    static const std::string reason = why_no_gpu();            \
+    if (!reason.empty()) GTEST_SKIP() << "no GPU: " << reason; \
+  } while (0)
+
+class GpuScene : public ::testing::TestWithParam<test::NamedScene> {};
+
+TEST_P(GpuScene, EqualsTheReferenceByteForByte) {
+  SKIP_WITHOUT_GPU();
+  test::expect_same_as_reference(GetParam().scene, kCuda, GetParam().name);
+}
+
+INSTANTIATE_TEST_SUITE_P(gpu, GpuScene, ::testing::ValuesIn(test::backend_scenes(false)),
+                         [](const auto& info) {
+                           std::string n = info.param.name;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+TEST(gpu, RandomScenesEqualTheReference) {
+  SKIP_WITHOUT_GPU();
+  const bool ok = rc::check("random scenes: cuda == reference", [] {
+    const Scene s = *test::gen_cue_scene();
+    std::map<std::string, std::string> reference;
+    try {
+      reference = test::run_hashes(s, 2);
+    } catch (const RunError&) {
+      RC_DISCARD("placement too dense");
+    }
+    RC_ASSERT(test::run_hashes(s, 2, kCuda) == reference);
+  });
+  EXPECT_TRUE(ok);
+}
+
+TEST(gpu, GraphKernelsEqualTheReference) {
+  SKIP_WITHOUT_GPU();
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const std::size_t n = 1000 * seed;
+    std::vector<std::uint32_t> s, t;
+    for (std::size_t k = 0; k < 3 * n; ++k) {
+      core::Rng rng(seed, core::Stream::kValidation, k, 8);
+      s.push_back(rng.word32() % n);
+      t.push_back(rng.word32() % n);
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> e;
+    for (std::size_t k = 0; k < s.size(); ++k) e.emplace_back(s[k], t[k]);
+    std::sort(e.begin(), e.end());
+    e.erase(std::unique(e.begin(), e.end()), e.end());
+    s.clear(), t.clear();
+    for (auto [a, b] : e) s.push_back(a), t.push_back(b);
+    const Csr g = csr_from_edges(n, s, t);
+    const BfsResult ref = bfs(g, transpose(g), {0, 1});
+    for (const BfsResult& r : {accel::bfs_level_sync(g, {0, 1}, true), accel::bfs_queue(g, {0, 1}, true)}) {
+      EXPECT_EQ(r.level, ref.level) << seed;
+      EXPECT_EQ(r.parent, ref.parent) << seed;
+    }
+    EXPECT_EQ(accel::components(g, true), components(undirected(g))) << seed;
+  }
+}
+
+}  // namespace
+}  // namespace axg

@@ -1,0 +1,101 @@
+// The accelerator's pipeline, emulated on the CPU (Thrust's sequential host system runs
+// the same kernel functors the GPU runs), against the reference, byte for byte.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/breadth_first_search.hpp>
+
+#include "accel/backend_cases.hpp"
+#include "axonguide/accel/engines.hpp"
+#include "axonguide/placement.hpp"
+
+namespace axg {
+namespace {
+
+const EngineFactory kEmulated = [](const Scene& s, const Placement& p) { return accel::make_emulated_engine(s, p); };
+
+class EmulatedScene : public ::testing::TestWithParam<test::NamedScene> {};
+
+TEST_P(EmulatedScene, EqualsTheReferenceByteForByte) {
+  test::expect_same_as_reference(GetParam().scene, kEmulated, GetParam().name);
+}
+
+INSTANTIATE_TEST_SUITE_P(accel, EmulatedScene, ::testing::ValuesIn(test::backend_scenes(true)),
+                         [](const auto& info) {
+                           std::string n = info.param.name;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+RC_GTEST_PROP(accel, RandomScenesEqualTheReference, ()) {
+  const Scene s = *test::gen_cue_scene();
+  std::map<std::string, std::string> reference;
+  try {
+    reference = test::run_hashes(s, 2);
+  } catch (const RunError&) {
+    RC_DISCARD("placement too dense");
+  }
+  RC_ASSERT(test::run_hashes(s, 2, kEmulated) == reference);
+}
+
+Csr random_csr(std::size_t n, std::size_t m, std::uint64_t seed) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> e;
+  for (std::size_t k = 0; k < m; ++k) {
+    core::Rng rng(seed, core::Stream::kValidation, k, 7);
+    e.emplace_back(rng.word32() % n, rng.word32() % n);
+  }
+  std::sort(e.begin(), e.end());
+  e.erase(std::unique(e.begin(), e.end()), e.end());
+  std::vector<std::uint32_t> s, t;
+  for (auto [a, b] : e) s.push_back(a), t.push_back(b);
+  return csr_from_edges(n, s, t);
+}
+
+RC_GTEST_PROP(accel, GraphKernelsEqualTheReference, ()) {
+  const std::size_t n = *rc::gen::inRange<std::size_t>(1, 400);
+  const std::size_t m = *rc::gen::inRange<std::size_t>(0, 4 * n);
+  const Csr g = random_csr(n, m, *rc::gen::arbitrary<std::uint64_t>());
+  std::vector<std::uint32_t> sources{*rc::gen::inRange<std::uint32_t>(0, static_cast<std::uint32_t>(n))};
+  if (*rc::gen::arbitrary<bool>()) sources.push_back(static_cast<std::uint32_t>(n - 1));
+  const BfsResult ref = bfs(g, transpose(g), sources);
+  for (const BfsResult& r : {accel::bfs_level_sync(g, sources, false), accel::bfs_queue(g, sources, false)}) {
+    RC_ASSERT(r.level == ref.level);
+    RC_ASSERT(r.parent == ref.parent);
+    RC_ASSERT(r.max_level == ref.max_level);
+    RC_ASSERT(r.reached == ref.reached);
+  }
+  RC_ASSERT(accel::components(g, false) == components(undirected(g)));
+}
+
+TEST(accel, TheEmulatedEngineRunsItsOwnGraphKernels) {
+  Scene s = Scene::builtin_default();
+  s.neurons.count = 300;
+  const Placement p = place_neurons(s);
+  auto engine = accel::make_emulated_engine(s, p);
+  PhaseTimes t;
+  for (std::uint32_t step = 1; step <= 20; ++step) engine->step(step, t);
+  NeuronState state;
+  engine->finish(state);
+  GraphAnalysis a;
+  ASSERT_TRUE(engine->analyze(s, a));  // the reference engine returns false
+  const GraphAnalysis host = analyze_graph(s, state);
+  EXPECT_EQ(a.out.offsets, host.out.offsets);
+  EXPECT_EQ(a.out.targets, host.out.targets);
+  EXPECT_EQ(a.bfs->level, host.bfs->level);
+  EXPECT_EQ(a.bfs->parent, host.bfs->parent);
+  EXPECT_EQ(a.component, host.component);
+}
+
+TEST(accel, CudaBackendIsReportedHonestly) {
+  if (accel::cuda_built()) {
+    EXPECT_FALSE(accel::cuda_device_description().empty());
+  } else {
+    EXPECT_NE(accel::cuda_device_description().find("not built"), std::string::npos);
+    EXPECT_THROW(accel::make_cuda_engine(Scene{}, Placement{}), InputError);
+  }
+}
+
+}  // namespace
+}  // namespace axg

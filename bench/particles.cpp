@@ -10,7 +10,9 @@
 #include "axonguide/core/random.hpp"
 #include "axonguide/core/sampler.hpp"
 #include "axonguide/cue_setup.hpp"
+#include "axonguide/error.hpp"
 #include "axonguide/fields.hpp"
+#include "axonguide/placement.hpp"
 #include "axonguide/threads.hpp"
 #include "bench.hpp"
 
@@ -18,17 +20,47 @@ namespace axg::bench {
 
 namespace {
 
-// Four sources whose steady state holds about `particles` particles (lifetime 20 steps).
+// 10^4 growth cones that keep growing (tiny somas, unbounded domain) among four sources
+// whose steady state holds about `particles` particles (lifetime 20 steps; nothing leaves
+// the domain, so the count is emission x 20).
 Scene particle_scene(double particles) {
   Scene s;
-  s.neurons.radius = 20;  // sources far from the absorbing boundary: few particles leave
+  s.steps = 100000;
+  s.neurons.count = 10000;
+  s.neurons.radius = 20;
+  s.neurons.soma_radius = 0.01;
+  s.neurons.overlap_reject = false;
+  s.axons.contact_distance = 0;
+  s.axons.bounds_radius = 1e6;
   s.guidance.model = GuidanceModel::kSnr;
   s.cues.field = FieldKind::kParticles;
   s.cues.random_sources.count = 4;
   s.cues.random_sources.decay = -std::log(1.0 - 1.0 / 20.0);
-  s.cues.random_sources.emission = 1.15 * particles / (4 * 20);  // ~13 % leave the domain
+  s.cues.random_sources.emission = particles / (4 * 20);
   s.cues.random_sources.diffusion = 0.05;
+  s.analysis.bfs_sources.clear();
   return s;
+}
+
+struct Measured {
+  double particle_steps = 0, seconds = 0, particles = 0;
+};
+
+// Warms the field up to steady state, then times `measured` whole engine steps.
+Measured measure_particles(const Scene& s, const EngineFactory& make, int measured) {
+  const Placement p = place_neurons(s);
+  std::unique_ptr<Engine> engine = make ? make(s, p) : make_reference_engine(s, p);
+  PhaseTimes times;
+  std::uint32_t step = 0;
+  const double target = 0.97 * 20 * 4 * s.cues.random_sources.emission;
+  while (step < 300 && static_cast<double>(engine->step(++step, times).particles) < target) {
+  }
+  Measured m;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < measured; ++k) m.particle_steps += static_cast<double>(engine->step(++step, times).particles);
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.particles = m.particle_steps / measured;
+  return m;
 }
 
 }  // namespace
@@ -40,41 +72,35 @@ std::vector<Row> particles(const Options& o) {
     rows.push_back(std::move(r));
   };
   const int threads = resolve_threads(o.max_threads);
-  std::vector<double> sizes{1e4, 1e5, 1e6};
+  const bool gpu = o.backend == "cuda";
+  std::vector<double> sizes = gpu ? std::vector<double>{1e5, 1e6, 1e7, 1e8} : std::vector<double>{1e4, 1e5, 1e6};
   if (o.quick) sizes.pop_back();
-  const std::size_t probes = 10000;  // growth cones sensing every step
+  double reference_rate = 0;
   for (double target : sizes) {
     const Scene s = particle_scene(target);
-    const auto cues = make_cues(s);
-    with_threads(threads, [&] {
-      auto field = make_reference_field(s, cues);
-      std::vector<core::Vec3> tips(probes);
-      for (std::size_t i = 0; i < probes; ++i) {
-        core::Rng rng(4, core::Stream::kBenchmark, i, 0);
-        tips[i] = 8.0 * core::unit_ball_rejection(rng);
-      }
-      PhaseTimes times;
-      std::uint32_t step = 0;
-      while (static_cast<double>(field->particles()) < 0.95 * target && step < 300) field->advance(++step, times);
-      const int measured = o.quick ? 5 : 10;
-      double particle_steps = 0;
-      std::vector<double> sink(probes);
-      const auto t0 = std::chrono::steady_clock::now();
-      for (int k = 0; k < measured; ++k) {
-        field->advance(++step, times);
-        particle_steps += static_cast<double>(field->particles());
-        tbb::parallel_for(std::size_t{0}, probes, [&](std::size_t i) {
-          core::CueSample samples[core::kMaxCues];
-          core::Vec3 pull[core::kMaxCues];
-          field->sample(tips[i], samples, pull);
-          sink[i] = samples[0].c;
-        });
-      }
-      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      emit({"particles", "particle field step + 10^4 sensing growth cones", "axonguide " + o.backend, threads,
-            particle_steps / measured, t, particle_steps / t, "particle-steps/s", 0, "",
-            fmt::format("{} steps at {:.3g} particles", measured, particle_steps / measured)});
-    });
+    const int steps = o.quick ? 5 : 10;
+    Measured m;
+    try {
+      m = with_threads(threads, [&] { return measure_particles(s, o.make_engine, steps); });
+    } catch (const RunError& e) {
+      emit({"particles", "engine step, 10^4 growth cones sensing", "axonguide " + o.backend, threads, target, 0, 0,
+            "particle-steps/s", 0, "", std::string("skipped: ") + e.what()});
+      continue;
+    }
+    double speedup = 0;
+    std::string note = fmt::format("{} steps at {:.3g} particles", steps, m.particles);
+    if (gpu && target <= 1e6) {
+      // The 2-core reference at the same size, in the same run.
+      const Measured r = with_threads(2, [&] { return measure_particles(s, {}, steps); });
+      reference_rate = r.particle_steps / r.seconds;
+    }
+    if (gpu && reference_rate > 0) {
+      speedup = (m.particle_steps / m.seconds) / reference_rate;
+      note += target <= 1e6 ? "; vs the 2-thread reference at this size" : "; vs the 2-thread reference at 10^6";
+    }
+    emit({"particles", "engine step, 10^4 growth cones sensing", "axonguide " + o.backend, threads, m.particles,
+          m.seconds, m.particle_steps / m.seconds, "particle-steps/s", speedup, gpu ? "reference (2 threads)" : "",
+          note});
   }
   {
     const Scene scene = paper_cue_scene(1000);

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -19,6 +20,17 @@
 namespace axg::test {
 
 namespace fs = std::filesystem;
+
+// The source tree (scenes, data, test tables) and the built command; the environment
+// variables of the same names override the paths compiled in (for relocated bundles).
+inline std::string source_dir() {
+  const char* env = std::getenv("AXG_SOURCE_DIR");
+  return env && *env ? env : AXG_SOURCE_DIR;
+}
+inline std::string binary() {
+  const char* env = std::getenv("AXG_BINARY");
+  return env && *env ? env : AXG_BINARY;
+}
 
 // A fresh directory, removed with its content when the object dies.
 class TempDir {

@@ -32,7 +32,7 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
     }
     return s;
   };
-  const std::filesystem::path root(AXG_SOURCE_DIR);
+  const std::filesystem::path root(source_dir());
   for (const char* dir : {"scenes", "data/golden"}) {
     if (!std::filesystem::exists(root / dir)) continue;
     std::vector<std::filesystem::path> files;

@@ -20,7 +20,7 @@ struct Result {
 // Runs the built binary with arguments; stdout and stderr captured through files.
 Result run(const std::string& args, const test::TempDir& tmp) {
   const auto out = tmp.path() / "stdout.txt", err = tmp.path() / "stderr.txt";
-  const std::string cmd = fmt::format("{} {} >{} 2>{}", AXG_BINARY, args, out.string(), err.string());
+  const std::string cmd = fmt::format("{} {} >{} 2>{}", test::binary(), args, out.string(), err.string());
   const int status = std::system(cmd.c_str());
   Result r{WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), test::read_file(out),
            test::read_file(err)};
@@ -124,14 +124,19 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"frobnicate", 2, "unknown command 'frobnicate'"}),
     [](const auto& info) { return std::to_string(info.index); });
 
-#if !AXG_HAVE_CUDA_ENGINE
-TEST(cli, CudaBackendNotBuiltExitsTwo) {
+// Not built: exit 2 "not built". Built without a usable GPU: exit 3 with the CUDA error
+// text. With a GPU: a normal run.
+TEST(cli, CudaBackendSaysWhyItCannotRun) {
   test::TempDir tmp;
   const Result r = run(fmt::format("run --backend cuda --out {}/o", tmp.path().string()), tmp);
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("not built"), std::string::npos) << r.err;
+  if (!AXG_HAVE_CUDA_ENGINE) {
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("not built"), std::string::npos) << r.err;
+  } else if (r.code != 0) {
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find("GPU"), std::string::npos) << r.err;
+  }
 }
-#endif
 
 }  // namespace
 }  // namespace axg

@@ -3,11 +3,12 @@
 
 #include "axonguide/scene.hpp"
 #include "bench.hpp"
+#include "support.hpp"
 
 namespace axg {
 namespace {
 
-std::string scene_path(const std::string& name) { return std::string(AXG_SOURCE_DIR) + "/scenes/" + name + ".json"; }
+std::string scene_path(const std::string& name) { return test::source_dir() + "/scenes/" + name + ".json"; }
 
 TEST(scenes, PaperDirectScenesMatchTheBenchmarks) {
   for (std::uint64_t n : {100, 500, 1000, 2500, 5000})
@@ -24,7 +25,7 @@ TEST(scenes, PaperCueScenesMatchTheBenchmarks) {
 }
 
 TEST(scenes, EveryBundledSceneParses) {
-  for (const auto& e : std::filesystem::directory_iterator(std::string(AXG_SOURCE_DIR) + "/scenes"))
+  for (const auto& e : std::filesystem::directory_iterator(test::source_dir() + "/scenes"))
     EXPECT_NO_THROW(load_scene_file(e.path().string())) << e.path();
 }
 

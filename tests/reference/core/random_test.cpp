@@ -5,12 +5,13 @@
 #include <sstream>
 
 #include "axonguide/core/random.hpp"
+#include "support.hpp"
 
 namespace axg::core {
 namespace {
 
 TEST(random, PhiloxKnownAnswers) {
-  std::ifstream in(std::string(AXG_SOURCE_DIR) + "/tests/data/kat_philox4x32_10.txt");
+  std::ifstream in(test::source_dir() + "/tests/data/kat_philox4x32_10.txt");
   ASSERT_TRUE(in) << "missing KAT table";
   std::string line;
   int checked = 0;

@@ -1,0 +1,2 @@
+// placeholder until the report writer lands
+namespace axg::validate {}

@@ -27,4 +27,24 @@ struct BenchArgs {
 };
 int cmd_bench(const BenchArgs& args);
 
+struct ValidateArgs {
+  std::string what = "all";
+  std::string report = "validation";
+  bool quick = false;
+  int threads = 0;
+  std::string points;
+  double radius = 1.0;
+};
+int cmd_validate(const ValidateArgs& args);
+
+struct GoldenArgs {
+  std::string action;  // check | bless
+  std::string reason;
+  std::string dir;     // default: data/golden
+  std::string only;
+  std::string backend = "reference";
+  int threads = 0;
+};
+int cmd_golden(const GoldenArgs& args);
+
 }  // namespace axg::app

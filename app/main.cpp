@@ -49,6 +49,28 @@ int dispatch(int argc, char** argv) {
   bench_cmd->add_option("--threads", bench.threads, "Largest thread count to measure (0: all cores)")
       ->check(CLI::Range(0, 4096));
 
+  ValidateArgs val;
+  auto* val_cmd = app.add_subcommand("validate", "Validation studies; writes a report (Markdown, CSV, PNG)");
+  val_cmd->add_option("what", val.what, "samplers|field|stiff|turning|gpu|bfs|all")
+      ->check(CLI::IsMember({"samplers", "field", "stiff", "turning", "gpu", "bfs", "all"}))
+      ->capture_default_str();
+  val_cmd->add_option("--report", val.report, "Report directory")->capture_default_str();
+  val_cmd->add_flag("--quick", val.quick, "Smaller sizes (the CI run)");
+  val_cmd->add_option("--threads", val.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  val_cmd->add_option("--points", val.points, "samplers: test this CSV point set (one point per row, d columns)");
+  val_cmd->add_option("--radius", val.radius, "samplers --points: ball radius for points that are not unit vectors")
+      ->check(CLI::PositiveNumber);
+
+  GoldenArgs gold;
+  auto* gold_cmd = app.add_subcommand("golden", "Golden networks: check them exactly, or regenerate them");
+  gold_cmd->add_option("action", gold.action, "check or bless")->required()->check(CLI::IsMember({"check", "bless"}));
+  gold_cmd->add_option("--reason", gold.reason, "bless: why (appended to data/golden/CHANGELOG.md)");
+  gold_cmd->add_option("--dir", gold.dir, "Golden directory (default: data/golden)");
+  gold_cmd->add_option("--only", gold.only, "bless: only this network");
+  gold_cmd->add_option("--backend", gold.backend, "check: reference or cuda")
+      ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
+  gold_cmd->add_option("--threads", gold.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;
@@ -74,6 +96,12 @@ int dispatch(int argc, char** argv) {
   if (scene_default->parsed()) return cmd_scene_default();
   if (scene_check->parsed()) return cmd_scene_check(check_path);
   if (bench_cmd->parsed()) return cmd_bench(bench);
+  if (val_cmd->parsed()) return cmd_validate(val);
+  if (gold_cmd->parsed()) {
+    if (gold.action == "bless" && gold.reason.empty())
+      throw axg::InputError("golden bless: --reason TEXT is required (it is appended to data/golden/CHANGELOG.md)");
+    return cmd_golden(gold);
+  }
   return axg::kExitBadInput;
 }
 

@@ -1,2 +1,127 @@
-// placeholder until the report writer lands
-namespace axg::validate {}
+#include "axonguide/validate/report.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "axonguide/error.hpp"
+#include "axonguide/version.hpp"
+
+namespace axg::validate {
+
+namespace fs = std::filesystem;
+
+std::string num(double v, int digits) {
+  if (v != v) return "nan";
+  return fmt::format("{:.{}g}", v, digits);
+}
+
+fs::path plots_dir() {
+  const char* env = std::getenv("AXG_PLOTS_DIR");
+  return env && *env ? fs::path(env) : fs::path(AXG_PLOTS_DIR);
+}
+
+Report::Report(fs::path dir, std::string title) : dir_(std::move(dir)), title_(std::move(title)) {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec) throw InputError(fmt::format("--report {}: cannot create directory: {}", dir_.string(), ec.message()));
+}
+
+void Report::heading(const std::string& title) { body_ += fmt::format("\n## {}\n\n", title); }
+
+void Report::text(const std::string& markdown) { body_ += markdown + "\n\n"; }
+
+void Report::table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+                   const std::string& csv_name) {
+  std::string md = "|";
+  for (const auto& h : header) md += " " + h + " |";
+  md += "\n|";
+  for (std::size_t k = 0; k < header.size(); ++k) md += "---|";
+  md += "\n";
+  for (const auto& r : rows) {
+    md += "|";
+    for (const auto& c : r) md += " " + c + " |";
+    md += "\n";
+  }
+  body_ += md + "\n";
+  if (!csv_name.empty()) {
+    std::ofstream out(dir_ / csv_name);
+    auto line = [&](const std::vector<std::string>& cells) {
+      for (std::size_t k = 0; k < cells.size(); ++k) {
+        std::string c = cells[k];
+        const bool quote = c.find(',') != std::string::npos || c.find('"') != std::string::npos;
+        if (quote) {
+          std::string q = "\"";
+          for (char ch : c) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+          c = q + "\"";
+        }
+        out << (k ? "," : "") << c;
+      }
+      out << "\n";
+    };
+    line(header);
+    for (const auto& r : rows) line(r);
+    body_ += fmt::format("Data: [`{}`]({})\n\n", csv_name, csv_name);
+  }
+}
+
+void Report::check(Check c) { checks_.push_back(std::move(c)); }
+
+void Report::skip(const std::string& name, const std::string& reason) {
+  checks_.push_back({name, true, "SKIPPED", reason, "", true});
+}
+
+void Report::plot(const std::string& script, const std::vector<std::string>& csv_names, const std::string& png_name,
+                  const std::string& caption) {
+  const fs::path py = plots_dir() / script;
+  std::string cmd = fmt::format("python3 '{}'", py.string());
+  for (const auto& c : csv_names) cmd += fmt::format(" '{}'", (dir_ / c).string());
+  cmd += fmt::format(" '{}' > '{}' 2>&1", (dir_ / png_name).string(), (dir_ / (png_name + ".log")).string());
+  const int rc = std::system(cmd.c_str());
+  if (rc == 0 && fs::exists(dir_ / png_name)) {
+    std::error_code ec;
+    fs::remove(dir_ / (png_name + ".log"), ec);
+    body_ += fmt::format("![{}]({})\n\n*{}*\n\n", caption, png_name, caption);
+  } else {
+    body_ += fmt::format("*(plot {} not made: python3 with matplotlib is needed; see {}.log)*\n\n", png_name, png_name);
+  }
+}
+
+bool Report::passed() const {
+  for (const auto& c : checks_)
+    if (!c.pass) return false;
+  return true;
+}
+
+int Report::finish() {
+  std::ofstream md(dir_ / "report.md");
+  std::size_t failed = 0, skipped = 0;
+  for (const auto& c : checks_) failed += !c.pass, skipped += c.skipped;
+  md << "# " << title_ << "\n\n";
+  md << fmt::format("axonguide {} ({}). **{}**: {} checks, {} failed, {} skipped.\n\n", kVersion, kCommit,
+                    failed ? "FAIL" : "PASS", checks_.size(), failed, skipped);
+  if (!checks_.empty()) {
+    md << "| check | result | measured | criterion | margin |\n|---|---|---|---|---|\n";
+    for (const auto& c : checks_)
+      md << fmt::format("| {} | {} | {} | {} | {} |\n", c.name, c.skipped ? "SKIPPED" : c.pass ? "pass" : "**FAIL**",
+                        c.measured, c.criterion, c.margin);
+    md << "\n";
+  }
+  md << body_;
+  std::ofstream csv(dir_ / "checks.csv");
+  csv << "check,result,measured,criterion,margin\n";
+  for (const auto& c : checks_)
+    csv << fmt::format("\"{}\",{},\"{}\",\"{}\",\"{}\"\n", c.name, c.skipped ? "skipped" : c.pass ? "pass" : "fail",
+                       c.measured, c.criterion, c.margin);
+  for (const auto& c : checks_)
+    if (!c.pass)
+      std::fprintf(stderr, "FAILED %s: measured %s; required %s (%s)\n", c.name.c_str(), c.measured.c_str(),
+                   c.criterion.c_str(), c.margin.c_str());
+  std::printf("%s: %s (%zu checks, %zu failed, %zu skipped) -> %s\n", title_.c_str(), failed ? "FAIL" : "PASS",
+              checks_.size(), failed, skipped, (dir_ / "report.md").c_str());
+  return failed ? 1 : 0;
+}
+
+}  // namespace axg::validate

@@ -1,0 +1,54 @@
+#pragma once
+// A validation report: Markdown (report.md) with tables, CSV files for every table of
+// numbers, PNG plots made by matplotlib scripts (validate/plots), and a list of checks.
+// A report passes when every check passes; a failed check says by how much.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace axg::validate {
+
+struct Check {
+  std::string name;
+  bool pass;
+  std::string measured;   // the value found
+  std::string criterion;  // what was required, fixed before the run
+  std::string margin;     // by how much it passed or failed
+  bool skipped = false;
+};
+
+class Report {
+ public:
+  Report(std::filesystem::path dir, std::string title);
+
+  void heading(const std::string& title);
+  void text(const std::string& markdown);
+  // A Markdown table; with a non-empty csv_name also DIR/csv_name (same columns).
+  void table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+             const std::string& csv_name = "");
+  void check(Check c);
+  void skip(const std::string& name, const std::string& reason);
+  // Runs `python3 PLOTS/script.py CSV... PNG`; embeds the PNG, or notes why there is none.
+  void plot(const std::string& script, const std::vector<std::string>& csv_names, const std::string& png_name,
+            const std::string& caption);
+
+  const std::vector<Check>& checks() const { return checks_; }
+  bool passed() const;
+  // Writes report.md and checks.csv; returns the process exit code (0 pass, 1 fail).
+  int finish();
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+  std::string title_;
+  std::string body_;
+  std::vector<Check> checks_;
+};
+
+// Number formatting for reports.
+std::string num(double v, int digits = 4);
+
+// Where the plotting scripts live (AXG_PLOTS_DIR overrides the source tree's).
+std::filesystem::path plots_dir();
+
+}  // namespace axg::validate

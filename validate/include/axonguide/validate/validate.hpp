@@ -1,0 +1,34 @@
+#pragma once
+// `axonguide validate ...` (SPEC §6-§7). Each study adds its checks, tables and plots to
+// a Report; `all` runs every study into DIR/<study>/ and writes an index.
+#include <string>
+
+#include "axonguide/validate/report.hpp"
+
+namespace axg::validate {
+
+struct Options {
+  bool quick = false;        // smaller sizes (the CI run, under 3 minutes in all)
+  int threads = 0;           // 0: all cores
+  std::string points_file;   // samplers: test an external point set instead
+  double radius = 1.0;       // samplers --points: ball radius when the points are not unit vectors
+};
+
+void validate_samplers(const Options& o, Report& r);
+void validate_points_file(const Options& o, Report& r);
+void validate_field(const Options& o, Report& r);
+void validate_stiff(const Options& o, Report& r);
+void validate_turning(const Options& o, Report& r);
+void validate_bfs(const Options& o, Report& r);
+void validate_gpu(const Options& o, Report& r);
+
+// Runs one study (or "all") into `dir`; returns the exit code (0 pass, 1 a check failed).
+int run_validation(const std::string& what, const std::string& dir, const Options& o);
+
+// Least-squares slope and intercept of y on x (Eigen), with the slope's standard error.
+struct Fit {
+  double slope, intercept, slope_se;
+};
+Fit fit_line(const std::vector<double>& x, const std::vector<double>& y);
+
+}  // namespace axg::validate

@@ -1,0 +1,177 @@
+#include "axonguide/validate/golden.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
+#include "axonguide/threads.hpp"
+#include "axonguide/version.hpp"
+
+namespace axg::validate {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<fs::path> golden_scenes(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw InputError(fmt::format("golden: {} is not a directory", dir.string()));
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_directory() && fs::exists(e.path() / "scene.json")) out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  if (out.empty()) throw InputError(fmt::format("golden: no NAME/scene.json under {}", dir.string()));
+  return out;
+}
+
+// Runs the scene into `out` (a fresh directory).
+void run_into(const Scene& scene, const fs::path& out, const EngineFactory& make, int threads) {
+  fs::remove_all(out);
+  RunOptions options;
+  options.make_engine = make;
+  with_threads(threads, [&] {
+    const RunResult r = run_scene(scene, options);
+    write_outputs(r, out, "golden", threads, {});
+  });
+  fs::remove(out / "timings.csv");
+  fs::remove(out / "manifest.json");
+}
+
+// The first difference between two texts, as "line N: expected ... got ...".
+std::string first_difference(const std::string& expected, const std::string& got) {
+  std::istringstream a(expected), b(got);
+  std::string la, lb;
+  for (int line = 1;; ++line) {
+    const bool ha = static_cast<bool>(std::getline(a, la)), hb = static_cast<bool>(std::getline(b, lb));
+    if (!ha && !hb) return "same lines, different bytes (line endings?)";
+    if (ha != hb || la != lb) {
+      auto cut = [](const std::string& s) { return s.size() > 120 ? s.substr(0, 117) + "..." : s; };
+      return fmt::format("line {}: expected \"{}\", got \"{}\"", line, ha ? cut(la) : "<end of file>",
+                         hb ? cut(lb) : "<end of file>");
+    }
+  }
+}
+
+std::string utc_now() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", &tm);
+  return buf;
+}
+
+}  // namespace
+
+fs::path default_golden_dir() {
+  if (fs::is_directory("data/golden")) return "data/golden";
+  const char* env = std::getenv("AXG_SOURCE_DIR");
+  const fs::path root = env && *env ? fs::path(env) : fs::path(AXG_SOURCE_DIR);
+  return root / "data" / "golden";
+}
+
+std::vector<GoldenResult> golden_check(const fs::path& dir, const EngineFactory& make, int threads) {
+  std::vector<GoldenResult> results;
+  const fs::path work = fs::temp_directory_path() / fmt::format("axonguide-golden-{}", ::getpid());
+  for (const fs::path& g : golden_scenes(dir)) {
+    GoldenResult r;
+    r.name = g.filename().string();
+    const Scene scene = load_scene_file((g / "scene.json").string()).scene;
+    const fs::path out = work / r.name;
+    run_into(scene, out, make, threads);
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(g / "expected")) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(out)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    for (const auto& name : names) {
+      const bool have_expected = fs::exists(g / "expected" / name), have_got = fs::exists(out / name);
+      if (!have_expected || !have_got) {
+        r.pass = false;
+        r.differences.push_back(fmt::format("{}: {}", name, have_expected ? "not produced" : "not expected"));
+        continue;
+      }
+      const std::string a = read_all(g / "expected" / name), b = read_all(out / name);
+      if (a != b) {
+        r.pass = false;
+        r.differences.push_back(fmt::format("{}: {}", name, first_difference(a, b)));
+      }
+    }
+    results.push_back(std::move(r));
+  }
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  return results;
+}
+
+std::vector<std::string> golden_bless(const fs::path& dir, const std::string& reason, int threads,
+                                      const std::string& only) {
+  if (reason.empty()) throw InputError("golden bless: --reason TEXT is required (it goes into CHANGELOG.md)");
+  std::vector<std::string> changed;
+  std::string log;
+  bool found = only.empty();
+  for (const fs::path& g : golden_scenes(dir)) {
+    const std::string name = g.filename().string();
+    if (!only.empty() && name != only) continue;
+    found = true;
+    const Scene scene = load_scene_file((g / "scene.json").string()).scene;
+    const fs::path fresh = g / "expected.new";
+    run_into(scene, fresh, {}, threads);
+    json files = json::object();
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(fresh)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    bool differs = !fs::exists(g / "expected");
+    for (const auto& f : names) {
+      const std::string hash = sha256_file(fresh / f);
+      files[f] = hash;
+      const fs::path old = g / "expected" / f;
+      const std::string old_hash = fs::exists(old) ? sha256_file(old) : "none";
+      if (old_hash != hash) {
+        differs = true;
+        log += fmt::format("  - `{}/{}`: {} -> {}\n", name, f, old_hash.substr(0, 12), hash.substr(0, 12));
+      }
+    }
+    fs::remove_all(g / "expected");
+    fs::rename(fresh, g / "expected");
+    json prov;
+    prov["name"] = name;
+    prov["seed"] = scene.seed;
+    prov["scene"] = scene_to_json(scene);
+    prov["version"] = kVersion;
+    prov["commit"] = kCommit;
+    prov["compiler"] = kCompiler;
+    prov["build_type"] = kBuildType;
+    prov["cxx_flags"] = kCxxFlags;
+    prov["blessed"] = utc_now();
+    prov["reason"] = reason;
+    prov["threads"] = threads;
+    prov["backend"] = "reference";
+    prov["files"] = files;
+    std::ofstream(g / "provenance.json") << prov.dump(2) << "\n";
+    if (differs) changed.push_back(name);
+  }
+  if (!found) throw InputError(fmt::format("golden bless: no golden network named '{}' under {}", only, dir.string()));
+  std::ofstream cl(dir / "CHANGELOG.md", std::ios::app);
+  cl << fmt::format("\n## {} — commit {}\n\nReason: {}\n\n", utc_now(), kCommit, reason);
+  cl << (changed.empty() ? "No expected output changed.\n" : fmt::format("Changed: {}\n\n{}", fmt::join(changed, ", "), log));
+  return changed;
+}
+
+}  // namespace axg::validate

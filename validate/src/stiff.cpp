@@ -1,0 +1,224 @@
+// `validate stiff`: the stiff and extreme battery of SPEC §7 as a pass/fail table. Every
+// case must finish with finite, non-negative, bounded results, or refuse with a clear
+// error; none may blow up silently.
+#include <chrono>
+#include <cfloat>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "axonguide/core/pmath.hpp"
+#include "axonguide/core/steering.hpp"
+#include "axonguide/cue_setup.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/fields.hpp"
+#include "axonguide/placement.hpp"
+#include "axonguide/sampler_nd.hpp"
+#include "axonguide/threads.hpp"
+#include "axonguide/validate/validate.hpp"
+
+namespace axg::validate {
+
+namespace {
+
+using core::Vec3;
+
+Scene one_source(FieldKind field, GridScheme scheme, double d, double k, double h) {
+  Scene s;
+  s.neurons.radius = 2.0;
+  s.guidance.model = GuidanceModel::kSnr;
+  s.cues.field = field;
+  s.cues.grid.scheme = scheme;
+  s.cues.grid.spacing = h;
+  Source src;
+  src.position = Vec3{0.05, -0.03, 0.02};
+  src.diffusion = d;
+  src.decay = k;
+  s.cues.sources = {src};
+  return s;
+}
+
+struct Scan {
+  bool finite = true;
+  double min = HUGE_VAL, max = -HUGE_VAL;
+};
+
+Scan scan_field(const CueField& f, double half) {
+  Scan out;
+  for (double x = -half; x <= half; x += half / 7)
+    for (double y = -half; y <= half; y += half / 7)
+      for (double z = -half; z <= half; z += half / 5) {
+        core::CueSample s[core::kMaxCues];
+        Vec3 pull[core::kMaxCues];
+        f.sample({x, y, z}, s, pull);
+        out.finite = out.finite && std::isfinite(s[0].c) && std::isfinite(s[0].grad.x) &&
+                     std::isfinite(s[0].grad.y) && std::isfinite(s[0].grad.z);
+        out.min = std::min(out.min, s[0].c);
+        out.max = std::max(out.max, s[0].c);
+      }
+  return out;
+}
+
+bool unit_and_finite(Vec3 h) {
+  return std::isfinite(h.x) && std::isfinite(h.y) && std::isfinite(h.z) && std::fabs(core::norm(h) - 1.0) < 1e-14;
+}
+
+}  // namespace
+
+void validate_stiff(const Options& o, Report& r) {
+  r.text("Each row runs one extreme case. A grid case passes when every sampled value is finite, non-negative "
+         "and at most one step's deposit (a Q / h^3); a steering case when the heading stays a finite unit "
+         "vector; a placement case when it succeeds or refuses with exit-3 text naming the packing fraction, in "
+         "bounded time; a sampler case when every point is a finite unit vector.");
+  const double deposit_bound = 0.01 * 100;  // a Q, divided by h^3 below
+  struct GridCase {
+    const char* name;
+    GridScheme scheme;
+    double d, k, h;
+  };
+  const GridCase grid_cases[] = {
+      {"implicit, k dt = 1e6", GridScheme::kImplicit, 0.05, 1e6, 0.1},
+      {"implicit, D dt / h^2 = 1e4", GridScheme::kImplicit, 100, 0.05, 0.1},
+      {"implicit, k dt = 1e6 and D dt / h^2 = 1e4", GridScheme::kImplicit, 100, 1e6, 0.1},
+      {"implicit, D dt / h^2 = 1e8 (k = 0)", GridScheme::kImplicit, 1e6, 0.0, 0.1},
+      {"explicit, D dt / h^2 = 100 (sub-steps)", GridScheme::kExplicit, 1.0, 0.05, 0.1},
+      {"explicit, k dt = 1e3 (sub-steps)", GridScheme::kExplicit, 0.05, 1e3, 0.2},
+  };
+  with_threads(o.threads, [&] {
+    for (const GridCase& c : grid_cases) {
+      const Scene s = one_source(FieldKind::kGrid, c.scheme, c.d, c.k, c.h);
+      const auto cues = make_cues(s);
+      auto f = make_reference_field(s, cues);
+      PhaseTimes t;
+      for (std::uint32_t step = 1; step <= (o.quick ? 3u : 10u); ++step) f->advance(step, t);
+      const Scan sc = scan_field(*f, 1.9);
+      const double bound = deposit_bound / (c.h * c.h * c.h);
+      const bool ok = sc.finite && sc.min >= 0.0 && sc.max <= bound;
+      r.check({std::string("grid ") + c.name, ok,
+               fmt::format("finite={}, min={}, max={}{}", sc.finite, num(sc.min), num(sc.max),
+                           f->note().empty() ? "" : "; " + f->note()),
+               fmt::format("finite, >= 0, <= {}", num(bound)), ok ? "within" : "outside"});
+    }
+    {
+      Scene s = one_source(FieldKind::kGrid, GridScheme::kExplicit, 100, 0.05, 0.1);
+      s.cues.grid.allow_substeps = false;
+      std::string what;
+      try {
+        make_reference_field(s, make_cues(s));
+      } catch (const InputError& e) {
+        what = e.what();
+      }
+      r.check({"explicit with sub-steps forbidden refuses (exit 2)", what.find("allow_substeps") != std::string::npos,
+               what.empty() ? "accepted" : what.substr(0, 80) + "...", "InputError naming cues.grid.allow_substeps",
+               ""});
+    }
+    {
+      const Scene s = one_source(FieldKind::kParticles, GridScheme::kImplicit, 0.05, 1e6, 0.1);
+      auto f = make_reference_field(s, make_cues(s));
+      PhaseTimes t;
+      for (std::uint32_t step = 1; step <= 5; ++step) f->advance(step, t);
+      const Scan sc = scan_field(*f, 1.9);
+      r.check({"particles, k dt = 1e6: every particle dies at once", sc.finite && f->particles() == 0 && sc.max == 0,
+               fmt::format("{} particles, max C {}", f->particles(), num(sc.max)), "0 particles, C = 0, finite", ""});
+    }
+    {
+      const Scene s = one_source(FieldKind::kAnalytic, GridScheme::kImplicit, 0.05, 0.0, 0.1);
+      const auto cues = make_cues(s);
+      const auto sp = sense_params(s);
+      bool ok = true;
+      for (double rr : {0.0, 1e-300, 1e-3, 1.0, 1e6, 1e300}) {
+        const core::CueSample v = core::analytic_sample(cues[0].position + Vec3{rr, 0, 0}, cues[0], sp);
+        ok = ok && std::isfinite(v.c) && v.c >= 0 && std::isfinite(core::norm(v.grad));
+      }
+      r.check({"analytic field at r = 0, 1e-300, ..., 1e300 (k = 0)", ok, ok ? "finite" : "non-finite", "finite, >= 0",
+               ""});
+    }
+  });
+
+  // Steering extremes.
+  {
+    core::SteerParams p{};
+    p.model = core::GuidanceModel::kSnr;
+    p.cos_turn = std::cos(0.10471975511965977);
+    p.sin_turn = std::sin(0.10471975511965977);
+    p.gain = 250;
+    bool ok = true;
+    for (double gamma : {0.0, 1e-300, 1e-10, 0.5, 1.0, 1e10, 1e300, DBL_MAX}) {
+      ok = ok && std::isfinite(core::snr_occupancy(gamma));
+      const core::Detection d{true, gamma, 1.0, {1, 0, 0}};
+      ok = ok && unit_and_finite(core::snr_turn({0, 0, 1}, d, p, 1, 2, 0, 3));
+    }
+    r.check({"SNR steering for gamma = 0 ... DBL_MAX", ok, ok ? "finite unit headings" : "non-finite", "finite unit", ""});
+    bool par = true;
+    for (Vec3 g : {Vec3{0, 0, 1}, Vec3{0, 0, -1}})
+      for (std::uint32_t n = 0; n < 1000; ++n)
+        par = par && unit_and_finite(core::snr_turn({0, 0, 1}, {true, 0.5, 1.0, g}, p, 1, n, 0, 1));
+    r.check({"heading parallel and antiparallel to the gradient", par, par ? "finite unit headings (2000 decisions)" : "non-finite",
+             "finite unit", ""});
+    core::SenseParams sp{};
+    sp.cone_width = 0.1;
+    const core::CueParams cue{{0, 0, 0}, 1, 1, 1, 1, 1, 0, 1e300, 1, 1, 1, 1};
+    const bool zero = !core::detect({1.0, {0, 0, 0}}, cue, sp).detected && !core::detect({0.0, {1, 0, 0}}, cue, sp).detected;
+    r.check({"zero gradient or zero concentration: cue not detected", zero, zero ? "ignored" : "detected", "ignored", ""});
+  }
+
+  // Packing near the limit.
+  {
+    auto place = [&](double phi) {
+      Scene s;
+      s.neurons.count = o.quick ? 2000 : 10000;
+      s.neurons.radius = 10;
+      s.neurons.soma_radius = 10 * std::cbrt(phi / static_cast<double>(s.neurons.count));
+      s.neurons.max_attempts = 2000;
+      std::string outcome;
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        with_threads(o.threads, [&] { place_neurons(s); });
+        outcome = "placed";
+      } catch (const RunError& e) {
+        outcome = e.what();
+      }
+      return std::make_pair(outcome, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    };
+    const auto [a, ta] = place(0.25);
+    r.check({"packing fraction 0.25 (below random sequential addition's jamming, ~0.38)", a == "placed",
+             fmt::format("{} in {:.2f} s", a.substr(0, 60), ta), "placed", ""});
+    const auto [b, tb] = place(0.45);
+    const bool refused = b.find("packing fraction") != std::string::npos;
+    r.check({"packing fraction 0.45 (above jamming) refuses with a clear error", refused && tb < 120,
+             fmt::format("{} ({:.2f} s)", b.substr(0, 90), tb), "RunError naming the packing fraction, < 120 s", ""});
+    const auto [c, tc] = place(0.8);
+    r.check({"packing fraction 0.8 (above close packing) refuses at once", c.find("exceeds the densest packing") != std::string::npos && tc < 1,
+             fmt::format("{} ({:.3f} s)", c.substr(0, 90), tc), "refused before sampling, < 1 s", ""});
+  }
+
+  // Samplers at d = 1000.
+  for (core::Sampler m : {core::Sampler::kNormal, core::Sampler::kCoordinate}) {
+    std::vector<double> x(1000);
+    bool ok = true;
+    const int n = o.quick ? 20 : 200;
+    for (int i = 0; i < n; ++i) {
+      core::Rng rng(5, core::Stream::kValidation, static_cast<std::uint64_t>(i), 200);
+      sample_direction(m, rng, 1000, x.data());
+      double s = 0;
+      for (double v : x) ok = ok && std::isfinite(v), s += v * v;
+      ok = ok && std::fabs(std::sqrt(s) - 1) < 1e-12;
+    }
+    r.check({fmt::format("{} sampler at d = 1000", name_of(m)), ok, ok ? fmt::format("{} finite unit vectors", n) : "bad",
+             "finite, |x| = 1 within 1e-12", ""});
+  }
+  {
+    std::string what;
+    try {
+      std::vector<double> x(20);
+      core::Rng rng(5, core::Stream::kValidation, 0, 201);
+      sample_direction(core::Sampler::kRejection, rng, 20, x.data());
+    } catch (const InputError& e) {
+      what = e.what();
+    }
+    r.check({"rejection sampler at d = 20 refuses (acceptance collapses)", what.find("acceptance rate") != std::string::npos,
+             what.substr(0, 90), "InputError naming the acceptance rate", ""});
+  }
+}
+
+}  // namespace axg::validate

@@ -73,10 +73,31 @@ void Report::skip(const std::string& name, const std::string& reason) {
   checks_.push_back({name, true, "SKIPPED", reason, "", true});
 }
 
+namespace {
+// The first Python that can import matplotlib: $AXG_PYTHON, Debian's /usr/bin/python3
+// (python3-matplotlib), then python3 on PATH. Empty when there is none.
+const std::string& plotting_python() {
+  static const std::string found = [] {
+    std::vector<std::string> candidates;
+    if (const char* env = std::getenv("AXG_PYTHON"); env && *env) candidates.push_back(env);
+    candidates.push_back("/usr/bin/python3");
+    candidates.push_back("python3");
+    for (const auto& c : candidates)
+      if (std::system(fmt::format("'{}' -c 'import matplotlib' > /dev/null 2>&1", c).c_str()) == 0) return c;
+    return std::string();
+  }();
+  return found;
+}
+}  // namespace
+
 void Report::plot(const std::string& script, const std::vector<std::string>& csv_names, const std::string& png_name,
                   const std::string& caption) {
   const fs::path py = plots_dir() / script;
-  std::string cmd = fmt::format("python3 '{}'", py.string());
+  if (plotting_python().empty()) {
+    body_ += fmt::format("*(plot {} not made: no python3 with matplotlib; install python3-matplotlib)*\n\n", png_name);
+    return;
+  }
+  std::string cmd = fmt::format("'{}' '{}'", plotting_python(), py.string());
   for (const auto& c : csv_names) cmd += fmt::format(" '{}'", (dir_ / c).string());
   cmd += fmt::format(" '{}' > '{}' 2>&1", (dir_ / png_name).string(), (dir_ / (png_name + ".log")).string());
   const int rc = std::system(cmd.c_str());

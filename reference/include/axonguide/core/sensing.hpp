@@ -22,6 +22,7 @@ AXG_HDI CueSample particle_sample(double count, Vec3 sum_offsets, const SensePar
 AXG_HDI CueSample analytic_sample(Vec3 x, const CueParams& cue, const SenseParams& p) {
   const Vec3 d = x - cue.position;
   const double r = norm(d);
+  if (!(r < HUGE_VAL)) return {0.0, {0.0, 0.0, 0.0}};  // |d|^2 overflowed: c has long reached 0
   const double re = r > p.analytic_rmin ? r : p.analytic_rmin;
   const double c = cue.analytic_scale * pm::exp(-re * cue.inv_lambda) / re;
   if (r == 0.0) return {c, {0.0, 0.0, 0.0}};

@@ -1,0 +1,58 @@
+// The golden-network machinery itself: a changed byte is caught and located, bless
+// records its reason, and bless without a reason is refused.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "axonguide/error.hpp"
+#include "axonguide/validate/golden.hpp"
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+// A private copy of one golden network.
+std::filesystem::path copy_one(const test::TempDir& tmp, const std::string& name) {
+  const auto src = std::filesystem::path(test::source_dir()) / "data" / "golden" / name;
+  const auto dst = tmp.path() / "golden" / name;
+  std::filesystem::create_directories(dst.parent_path());
+  std::filesystem::copy(src, dst, std::filesystem::copy_options::recursive);
+  return dst.parent_path();
+}
+
+TEST(golden, ADifferentByteIsCaughtAndLocated) {
+  test::TempDir tmp;
+  const auto dir = copy_one(tmp, "direct-rejection-ball-swept");
+  auto results = validate::golden_check(dir, {}, 2);
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_TRUE(results[0].pass);
+  // Change one digit on line 3 of neurons.csv.
+  const auto f = dir / "direct-rejection-ball-swept" / "expected" / "neurons.csv";
+  std::string text = test::read_file(f);
+  std::size_t line3 = text.find('\n', text.find('\n') + 1) + 1;
+  std::size_t digit = text.find_first_of("0123456789", text.find(',', line3) + 1);
+  text[digit] = text[digit] == '1' ? '2' : '1';
+  std::ofstream(f, std::ios::binary) << text;
+  results = validate::golden_check(dir, {}, 2);
+  EXPECT_FALSE(results[0].pass);
+  ASSERT_EQ(results[0].differences.size(), 1u);
+  EXPECT_NE(results[0].differences[0].find("neurons.csv: line 3"), std::string::npos) << results[0].differences[0];
+}
+
+TEST(golden, BlessRestoresAndRecordsTheReason) {
+  test::TempDir tmp;
+  const auto dir = copy_one(tmp, "analytic-snr");
+  std::filesystem::remove(dir / "analytic-snr" / "expected" / "stats.csv");
+  EXPECT_FALSE(validate::golden_check(dir, {}, 1)[0].pass);
+  EXPECT_THROW(validate::golden_bless(dir, "", 1), InputError);
+  const auto changed = validate::golden_bless(dir, "unit test: restore stats.csv", 1);
+  EXPECT_EQ(changed, std::vector<std::string>{"analytic-snr"});
+  EXPECT_TRUE(validate::golden_check(dir, {}, 1)[0].pass);
+  EXPECT_NE(test::read_file(dir / "CHANGELOG.md").find("unit test: restore stats.csv"), std::string::npos);
+  // The regenerated file equals the committed one: the run is deterministic.
+  EXPECT_EQ(test::read_file(dir / "analytic-snr" / "expected" / "stats.csv"),
+            test::read_file(std::filesystem::path(test::source_dir()) / "data/golden/analytic-snr/expected/stats.csv"));
+}
+
+}  // namespace
+}  // namespace axg

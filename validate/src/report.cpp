@@ -33,6 +33,33 @@ void Report::heading(const std::string& title) { body_ += fmt::format("\n## {}\n
 
 void Report::text(const std::string& markdown) { body_ += markdown + "\n\n"; }
 
+namespace {
+void write_csv(const fs::path& path, const std::vector<std::string>& header,
+               const std::vector<std::vector<std::string>>& rows) {
+  std::ofstream out(path);
+  auto line = [&](const std::vector<std::string>& cells) {
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      std::string c = cells[k];
+      if (c.find(',') != std::string::npos || c.find('"') != std::string::npos) {
+        std::string q = "\"";
+        for (char ch : c) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+        c = q + "\"";
+      }
+      out << (k ? "," : "") << c;
+    }
+    out << "\n";
+  };
+  line(header);
+  for (const auto& r : rows) line(r);
+}
+}  // namespace
+
+void Report::csv(const std::string& name, const std::vector<std::string>& header,
+                 const std::vector<std::vector<std::string>>& rows) {
+  write_csv(dir_ / name, header, rows);
+  body_ += fmt::format("Data: [`{}`]({})\n\n", name, name);
+}
+
 void Report::table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
                    const std::string& csv_name) {
   std::string md = "|";
@@ -47,22 +74,7 @@ void Report::table(const std::vector<std::string>& header, const std::vector<std
   }
   body_ += md + "\n";
   if (!csv_name.empty()) {
-    std::ofstream out(dir_ / csv_name);
-    auto line = [&](const std::vector<std::string>& cells) {
-      for (std::size_t k = 0; k < cells.size(); ++k) {
-        std::string c = cells[k];
-        const bool quote = c.find(',') != std::string::npos || c.find('"') != std::string::npos;
-        if (quote) {
-          std::string q = "\"";
-          for (char ch : c) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-          c = q + "\"";
-        }
-        out << (k ? "," : "") << c;
-      }
-      out << "\n";
-    };
-    line(header);
-    for (const auto& r : rows) line(r);
+    write_csv(dir_ / csv_name, header, rows);
     body_ += fmt::format("Data: [`{}`]({})\n\n", csv_name, csv_name);
   }
 }

@@ -26,6 +26,9 @@ class Report {
   // A Markdown table; with a non-empty csv_name also DIR/csv_name (same columns).
   void table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
              const std::string& csv_name = "");
+  // Only the CSV file (for long series that feed a plot), linked from the report.
+  void csv(const std::string& name, const std::vector<std::string>& header,
+           const std::vector<std::vector<std::string>>& rows);
   void check(Check c);
   void skip(const std::string& name, const std::string& reason);
   // Runs `python3 PLOTS/script.py CSV... PNG`; embeds the PNG, or notes why there is none.

@@ -12,6 +12,7 @@ struct RunArgs {
   std::string backend = "reference";
   std::string seed;        // empty: the scene's
   bool quiet = false;
+  bool vtk = false;
 };
 
 int cmd_run(const RunArgs& args);
@@ -46,5 +47,8 @@ struct GoldenArgs {
   int threads = 0;
 };
 int cmd_golden(const GoldenArgs& args);
+
+int cmd_view(const std::string& dir);
+int cmd_plot(const std::string& dir);
 
 }  // namespace axg::app

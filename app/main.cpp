@@ -29,6 +29,7 @@ int dispatch(int argc, char** argv) {
       ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
   run_cmd->add_option("--seed", run.seed, "Override the scene's seed (unsigned 64-bit)");
   run_cmd->add_flag("--quiet,-q", run.quiet, "No summary on stdout");
+  run_cmd->add_flag("--vtk", run.vtk, "Also write ParaView files (vtk/*.vtp, growth.pvd); implies output.paths");
 
   auto* scene_cmd = app.add_subcommand("scene", "Scene utilities");
   scene_cmd->require_subcommand(1);
@@ -71,6 +72,12 @@ int dispatch(int argc, char** argv) {
       ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
   gold_cmd->add_option("--threads", gold.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
 
+  std::string view_dir, plot_dir;
+  auto* view_cmd = app.add_subcommand("view", "Write DIR/view.html, a self-contained 3D viewer of a run");
+  view_cmd->add_option("dir", view_dir, "Output directory of a run")->required();
+  auto* plot_cmd = app.add_subcommand("plot", "Write PNG plots of a run into DIR (matplotlib)");
+  plot_cmd->add_option("dir", plot_dir, "Output directory of a run")->required();
+
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;
@@ -97,6 +104,8 @@ int dispatch(int argc, char** argv) {
   if (scene_check->parsed()) return cmd_scene_check(check_path);
   if (bench_cmd->parsed()) return cmd_bench(bench);
   if (val_cmd->parsed()) return cmd_validate(val);
+  if (view_cmd->parsed()) return cmd_view(view_dir);
+  if (plot_cmd->parsed()) return cmd_plot(plot_dir);
   if (gold_cmd->parsed()) {
     if (gold.action == "bless" && gold.reason.empty())
       throw axg::InputError("golden bless: --reason TEXT is required (it is appended to data/golden/CHANGELOG.md)");

@@ -129,6 +129,10 @@ int cmd_run(const RunArgs& args) {
   }
   Scene scene = parsed.scene;
   if (!args.seed.empty()) scene.seed = parse_seed(args.seed);
+  if (args.vtk) {
+    scene.output.vtk = true;
+    resolve_output_dependencies(scene, parsed.warnings);
+  }
   for (const auto& w : parsed.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
 
   RunOptions options;
@@ -143,6 +147,12 @@ int cmd_run(const RunArgs& args) {
     write_outputs(r, args.out_dir, args.backend, threads, parsed.warnings);
     return r;
   });
+  for (const ParticleFrame& fr : result.frames)
+    if (fr.stride > 1)
+      std::fprintf(stderr,
+                   "axonguide: note: the particle frame at step %u has %llu particles; every %uth (by id) is kept in "
+                   "particles.csv and the VTK frames\n",
+                   fr.step, static_cast<unsigned long long>(fr.count), fr.stride);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!args.quiet) {
     print_summary(result, args, threads, origin, wall);

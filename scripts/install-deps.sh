@@ -8,27 +8,32 @@ packages=(
   libeigen3-dev libtbb-dev libgsl-dev libboost-graph-dev
   libgtest-dev librapidcheck-dev librandom123-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libssl-dev
-  python3 python3-matplotlib
+  python3 python3-matplotlib python3-pil
+  # the viewer's tests: VTK's reader for the ParaView files, headless Chromium for the page
+  python3-vtk9 chromium
 )
-# Extra groups, opt-in: `install-deps.sh viewer` adds what the viewer tests need.
-for group in "$@"; do
-  case "$group" in
-    viewer) packages+=(chromium python3-vtk9 nodejs npm) ;;
-    *) echo "install-deps.sh: unknown group '$group' (known: viewer)" >&2; exit 2 ;;
-  esac
-done
+[ $# -eq 0 ] || { echo "install-deps.sh takes no arguments" >&2; exit 2; }
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# npm (for three.js, which `axonguide view` inlines): Debian's when there is none yet.
+command -v npm >/dev/null 2>&1 || missing+=(npm)
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
+  echo "install-deps: all ${#packages[@]} Debian packages present"
+else
+  echo "install-deps: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -q
+  $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
-echo "install-deps: installing ${missing[*]}"
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -q
-$sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+
+# JavaScript packages pinned by package-lock.json (three.js), into ./node_modules.
+cd "$(dirname "$0")/.."
+if [ ! -f node_modules/three/package.json ] || ! cmp -s package-lock.json node_modules/.package-lock.json; then
+  echo "install-deps: npm ci (three.js for the viewer)"
+  npm ci --no-audit --no-fund --loglevel=error
+fi

@@ -626,6 +626,13 @@ class AccelEngine final : public Engine {
     return stats_;
   }
 
+  void particles(std::vector<Vec3>& pos, std::vector<std::uint16_t>& cue) override {
+    pos.resize(pos_.size());
+    cue.resize(source_.size());
+    thrust::copy(pos_.begin(), pos_.end(), pos.begin());
+    thrust::copy(source_.begin(), source_.end(), cue.begin());
+  }
+
   void tips(std::vector<Vec3>& out) override {
     dvec<Vec3> by_id(tip_.size());
     launch(tip_.size(), ScatterBy<Vec3>{raw(tip_), raw(ids_), raw(by_id)});

@@ -57,6 +57,11 @@ class ParticleField final : public CueField {
 
   std::uint64_t particles() const override { return pos_.size(); }
 
+  void snapshot(std::vector<core::Vec3>& pos, std::vector<std::uint16_t>& cue) const override {
+    pos = pos_;
+    cue = source_;
+  }
+
   std::size_t bytes() const override {
     return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
            keep_.capacity() + keys_.capacity() * 4 + index_.capacity() * 4 + sorted_pos_.capacity() * 24 +

@@ -81,6 +81,10 @@ class ReferenceEngine final : public Engine {
     return stats_;
   }
 
+  void particles(std::vector<core::Vec3>& pos, std::vector<std::uint16_t>& cue) override {
+    if (field_) field_->snapshot(pos, cue);
+  }
+
   void tips(std::vector<core::Vec3>& out) override {
     out.resize(state_.size());
     tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t k) { out[somas_.ids[k]] = state_.tip[k]; });

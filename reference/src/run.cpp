@@ -80,6 +80,26 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   placement.heading.clear();
   placement.heading.shrink_to_fit();
 
+  r.cues = make_cues(scene);
+  const bool frames = (scene.output.paths || scene.output.vtk) && scene.uses_cues() &&
+                      scene.cues.field == FieldKind::kParticles;
+  auto record_frame = [&](std::uint32_t step) {
+    ParticleFrame f;
+    f.step = step;
+    engine->particles(f.pos, f.cue);
+    f.count = f.pos.size();
+    if (f.count > kMaxFrameParticles) {
+      f.stride = static_cast<std::uint32_t>((f.count + kMaxFrameParticles - 1) / kMaxFrameParticles);
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < f.count; i += f.stride, ++kept) {
+        f.pos[kept] = f.pos[i];
+        f.cue[kept] = f.cue[i];
+      }
+      f.pos.resize(kept);
+      f.cue.resize(kept);
+    }
+    r.frames.push_back(std::move(f));
+  };
   StepStats s0;
   s0.growing = scene.neurons.count;
   r.stats.push_back(s0);
@@ -96,6 +116,8 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
       engine->tips(r.paths.back());
     }
     if (options.on_step) options.on_step(s, scene.steps);
+    const bool last = s.growing == 0 || step == scene.steps;
+    if (frames && (step % scene.output.frames_every == 0 || last)) record_frame(step);
     if (s.growing == 0) break;  // nothing left to grow or guide
   }
   r.engine_bytes = engine->bytes();

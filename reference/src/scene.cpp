@@ -385,7 +385,15 @@ ParseResult parse_scene(const std::string& text, const std::string& origin) {
   const bool cues_set = root.is_object() && root.contains("cues") &&
                         scene_to_json(result.scene)["cues"] != scene_to_json(Scene{})["cues"];
   check_consistency(result.scene, result.warnings, cues_set);
+  resolve_output_dependencies(result.scene, result.warnings);
   return result;
+}
+
+void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warnings) {
+  if (scene.output.vtk && !scene.output.paths) {
+    scene.output.paths = true;
+    warnings.push_back("output.vtk draws the axons' paths: output.paths is enabled");
+  }
 }
 
 ParseResult load_scene_file(const std::string& path) {

@@ -11,6 +11,7 @@
 #include "axonguide/output.hpp"
 #include "axonguide/run.hpp"
 #include "axonguide/version.hpp"
+#include "axonguide/vtk.hpp"
 
 namespace axg {
 
@@ -116,6 +117,25 @@ void write_paths(const RunResult& r, AtomicFile& f) {
   w.flush();
 }
 
+void write_sources(const RunResult& r, AtomicFile& f) {
+  CsvWriter w(f);
+  w.row("cue,kind,x,y,z,emission,diffusion,decay,kd,min_concentration,max_concentration\n");
+  for (std::size_t k = 0; k < r.cues.size(); ++k) {
+    const auto& c = r.cues[k];
+    w.row("{},{},{},{},{},{},{},{},{},{},{}\n", k, c.sign > 0 ? "attractant" : "repellent", c.position.x, c.position.y,
+          c.position.z, c.emission, c.diffusion, c.decay, c.kd, c.min_c, c.max_c);
+  }
+  w.flush();
+}
+
+void write_particles(const RunResult& r, AtomicFile& f) {
+  f.write("step,cue,x,y,z\n");
+  for (const ParticleFrame& fr : r.frames)
+    write_rows(f, fr.pos.size(), [&](std::size_t i, fmt::memory_buffer& b) {
+      fmt::format_to(std::back_inserter(b), "{},{},{},{},{}\n", fr.step, fr.cue[i], fr.pos[i].x, fr.pos[i].y, fr.pos[i].z);
+    });
+}
+
 void write_timings(const RunResult& r, AtomicFile& f) {
   CsvWriter w(f);
   w.row("step,phase,seconds\n");
@@ -149,7 +169,10 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   emit("stats.csv", write_stats);
   if (r.graph.bfs || !r.graph.component.empty()) emit("bfs.csv", write_bfs);
   if (r.scene.output.paths) emit("paths.csv", write_paths);
+  if (!r.cues.empty()) emit("sources.csv", write_sources);
+  if (!r.frames.empty()) emit("particles.csv", write_particles);
   emit("graph.graphml", write_graphml);
+  if (r.scene.output.vtk) write_vtk(r, dir, info);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   emit("timings.csv", write_timings);
 
@@ -179,7 +202,13 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   phases["output"] = output_seconds;
   manifest["timings_seconds"] = phases;
   manifest["peak_memory_bytes"] = peak_rss_bytes();
-  manifest["warnings"] = warnings;
+  std::vector<std::string> all_warnings = warnings;
+  for (const ParticleFrame& fr : r.frames)
+    if (fr.stride > 1)
+      all_warnings.push_back(fmt::format(
+          "particle frame at step {} has {} particles: every {}th (by id) kept in particles.csv and the VTK frames",
+          fr.step, fr.count, fr.stride));
+  manifest["warnings"] = all_warnings;
   json files = json::object();
   for (const auto& [name, hash] : info.files) files[name] = {{"sha256", hash}};
   manifest["files"] = files;

@@ -85,7 +85,6 @@ void Report::skip(const std::string& name, const std::string& reason) {
   checks_.push_back({name, true, "SKIPPED", reason, "", true});
 }
 
-namespace {
 // The first Python that can import matplotlib: $AXG_PYTHON, Debian's /usr/bin/python3
 // (python3-matplotlib), then python3 on PATH. Empty when there is none.
 const std::string& plotting_python() {
@@ -100,7 +99,6 @@ const std::string& plotting_python() {
   }();
   return found;
 }
-}  // namespace
 
 void Report::plot(const std::string& script, const std::vector<std::string>& csv_names, const std::string& png_name,
                   const std::string& caption) {

@@ -33,6 +33,11 @@ class Engine {
   virtual StepStats step(std::uint32_t step, PhaseTimes& times) = 0;
   // Current tips of all axons (for output.paths); only called when paths are recorded.
   virtual void tips(std::vector<core::Vec3>& out) = 0;
+  // Positions and cue indices of the particles now, in id order (output frames).
+  virtual void particles(std::vector<core::Vec3>& pos, std::vector<std::uint16_t>& cue) {
+    pos.clear();
+    cue.clear();
+  }
   // Final per-neuron state; axons still growing are reported as max_steps.
   virtual void finish(NeuronState& out) = 0;
   // Bytes of memory this engine holds (host or device), for the summary.

@@ -22,6 +22,11 @@ class CueField {
   // the source for particles; the unit gradient for grid and analytic fields).
   virtual void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const = 0;
   virtual std::uint64_t particles() const { return 0; }
+  // Positions and cue indices of the particles, in id order (empty for other fields).
+  virtual void snapshot(std::vector<core::Vec3>& pos, std::vector<std::uint16_t>& cue) const {
+    pos.clear();
+    cue.clear();
+  }
   virtual std::size_t bytes() const = 0;
   // A line for the summary and the manifest (e.g. explicit sub-steps), or empty.
   virtual std::string note() const { return {}; }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "axonguide/core/cues.hpp"
 #include "axonguide/engine.hpp"
 #include "axonguide/graph.hpp"
 #include "axonguide/scene.hpp"
@@ -25,6 +26,17 @@ struct RunOptions {
   std::function<void(const StepStats&, std::uint32_t steps)> on_step;
 };
 
+// Particles at one step (output.paths or output.vtk; every output.frames_every steps).
+// Frames above kMaxFrameParticles keep every k-th particle by id, k = ceil(count / max).
+inline constexpr std::size_t kMaxFrameParticles = 1000000;
+struct ParticleFrame {
+  std::uint32_t step = 0;
+  std::uint64_t count = 0;   // particles in the field
+  std::uint32_t stride = 1;  // every stride-th particle kept
+  std::vector<core::Vec3> pos;
+  std::vector<std::uint16_t> cue;
+};
+
 struct RunResult {
   Scene scene;  // as run (seed overrides applied)
   std::vector<core::Vec3> soma;
@@ -32,6 +44,8 @@ struct RunResult {
   NeuronState neurons;
   std::vector<StepStats> stats;           // step 0 and every step run
   std::vector<std::vector<core::Vec3>> paths;  // tips after each step (output.paths)
+  std::vector<core::CueParams> cues;           // the sources, positions resolved
+  std::vector<ParticleFrame> frames;
   GraphAnalysis graph;
   PhaseTimes times;
   std::uint32_t steps_run = 0;

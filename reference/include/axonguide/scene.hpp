@@ -131,6 +131,9 @@ ParseResult parse_scene(const std::string& text, const std::string& origin);
 // Reads and parses a scene file; throws InputError for missing, unreadable, directory,
 // oversized or malformed files.
 ParseResult load_scene_file(const std::string& path);
+// output.vtk draws axon paths, so it turns output.paths on (with a warning).
+void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warnings);
+
 // The canonical form: every key, defaults filled in, keys sorted.
 nlohmann::json scene_to_json(const Scene& scene);
 

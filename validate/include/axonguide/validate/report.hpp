@@ -51,6 +51,10 @@ class Report {
 // Number formatting for reports.
 std::string num(double v, int digits = 4);
 
+// The first Python that can import matplotlib ($AXG_PYTHON, /usr/bin/python3, python3);
+// empty when there is none.
+const std::string& plotting_python();
+
 // Where the plotting scripts live (AXG_PLOTS_DIR overrides the source tree's).
 std::filesystem::path plots_dir();
 

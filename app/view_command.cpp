@@ -1,0 +1,311 @@
+// `axonguide view DIR` writes DIR/view.html: a self-contained page (three.js from the npm
+// package, inlined as data: modules through an import map; the run's data embedded as
+// JSON with base64 typed arrays). `axonguide plot DIR` writes PNG plots with matplotlib.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
+#include "axonguide/validate/report.hpp"
+#include "commands.hpp"
+
+namespace axg::app {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// Above these, the page is thinned (and says so): it must stay loadable and smooth.
+constexpr std::size_t kMaxPathPoints = 1000000;
+constexpr std::size_t kMaxFrameParticles = 200000;
+
+fs::path asset_dir(const char* env, const fs::path& fallback) {
+  const char* e = std::getenv(env);
+  return e && *e ? fs::path(e) : fallback;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw RunError(fmt::format("view: cannot read {}", p.string()));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string base64(const void* data, std::size_t n) {
+  static constexpr char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* b = static_cast<const unsigned char*>(data);
+  std::string out;
+  out.reserve((n + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < n; i += 3) {
+    const unsigned v = (b[i] << 16) | (b[i + 1] << 8) | b[i + 2];
+    out += t[v >> 18], out += t[(v >> 12) & 63], out += t[(v >> 6) & 63], out += t[v & 63];
+  }
+  if (i + 1 == n) {
+    const unsigned v = b[i] << 16;
+    out += t[v >> 18], out += t[(v >> 12) & 63], out += "==";
+  } else if (i + 2 == n) {
+    const unsigned v = (b[i] << 16) | (b[i + 1] << 8);
+    out += t[v >> 18], out += t[(v >> 12) & 63], out += t[(v >> 6) & 63], out += '=';
+  }
+  return out;
+}
+
+template <class T>
+std::string b64(const std::vector<T>& v) {
+  return base64(v.data(), v.size() * sizeof(T));
+}
+
+// A CSV file as a header index and rows of cells.
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  int col(const std::string& name) const {
+    for (std::size_t k = 0; k < header.size(); ++k)
+      if (header[k] == name) return static_cast<int>(k);
+    return -1;
+  }
+};
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream ss(line);
+  std::string c;
+  while (std::getline(ss, c, ',')) cells.push_back(c);
+  return cells;
+}
+
+bool load_csv(const fs::path& p, Csv& out) {
+  std::ifstream in(p);
+  if (!in) return false;
+  std::string line;
+  if (!std::getline(in, line)) return false;
+  out.header = split(line);
+  while (std::getline(in, line))
+    if (!line.empty()) out.rows.push_back(split(line));
+  return true;
+}
+
+double num(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
+
+// three.js as data: modules. three.module.js imports './three.core.js', which has no
+// meaning inside a data: URL: it is remapped to the bare name "three/core".
+std::string import_map(const fs::path& three) {
+  std::string module = read_text(three / "build" / "three.module.js");
+  for (std::size_t p; (p = module.find("'./three.core.js'")) != std::string::npos;) module.replace(p, 17, "'three/core'");
+  const std::string core = read_text(three / "build" / "three.core.js");
+  const std::string orbit = read_text(three / "examples" / "jsm" / "controls" / "OrbitControls.js");
+  auto url = [](const std::string& src) { return "data:text/javascript;base64," + base64(src.data(), src.size()); };
+  json m;
+  m["imports"] = {{"three", url(module)}, {"three/core", url(core)}, {"three/addons/OrbitControls.js", url(orbit)}};
+  return m.dump();
+}
+
+}  // namespace
+
+int cmd_view(const std::string& dir_name) {
+  const fs::path dir(dir_name);
+  if (!fs::is_directory(dir))
+    throw InputError(fmt::format("view: {} is not a directory (give the --out directory of a run)", dir_name));
+  const fs::path source(AXG_SOURCE_DIR);
+  const fs::path viewer = asset_dir("AXG_VIEWER_DIR", source / "viewer");
+  const fs::path three = asset_dir("AXG_THREE_DIR", source / "node_modules" / "three");
+  if (!fs::exists(three / "build" / "three.module.js"))
+    throw RunError(fmt::format("view: three.js is not installed at {} (run `npm ci` in the source tree, or set "
+                               "AXG_THREE_DIR to an installed three package)",
+                               three.string()));
+
+  json meta;
+  std::vector<std::string> missing, notes;
+  Csv neurons, bfs, paths, sources, particles;
+  if (!load_csv(dir / "neurons.csv", neurons)) missing.push_back("neurons.csv (no neurons to show)");
+  const std::size_t n = neurons.rows.size();
+  std::vector<float> soma(3 * n), tip(3 * n), length(n);
+  std::vector<std::uint8_t> status(n);
+  std::vector<std::uint32_t> steps(n);
+  std::vector<std::int32_t> target(n);
+  const char* names[] = {"growing", "connected", "exited", "max_steps"};
+  double extent = 1, soma_radius = 0.25;
+  std::uint32_t steps_run = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& r = neurons.rows[i];
+    if (r.size() < 12) throw InputError(fmt::format("view: {}: row {} is incomplete", (dir / "neurons.csv").string(), i + 2));
+    for (int k = 0; k < 3; ++k) soma[3 * i + k] = static_cast<float>(num(r[1 + k])), tip[3 * i + k] = static_cast<float>(num(r[6 + k]));
+    soma_radius = num(r[4]);
+    for (int s = 0; s < 4; ++s)
+      if (r[5] == names[s]) status[i] = static_cast<std::uint8_t>(s);
+    length[i] = static_cast<float>(num(r[9]));
+    steps[i] = static_cast<std::uint32_t>(num(r[10]));
+    target[i] = static_cast<std::int32_t>(num(r[11]));
+    steps_run = std::max(steps_run, steps[i]);
+    extent = std::max(extent, std::sqrt(num(r[1]) * num(r[1]) + num(r[2]) * num(r[2]) + num(r[3]) * num(r[3])));
+  }
+  json data;
+  data["soma"] = b64(soma);
+  data["status"] = b64(status);
+  data["steps"] = b64(steps);
+  data["target"] = b64(target);
+  data["length"] = b64(length);
+  if (!fs::exists(dir / "connections.csv")) missing.push_back("connections.csv");
+  if (load_csv(dir / "bfs.csv", bfs)) {
+    for (const char* col : {"level", "component"}) {
+      const int c = bfs.col(col);
+      if (c < 0) continue;
+      std::vector<std::int32_t> v(n, -1);
+      for (const auto& r : bfs.rows) {
+        const auto id = static_cast<std::size_t>(num(r[0]));
+        if (id < n) v[id] = static_cast<std::int32_t>(num(r[c]));
+      }
+      data[col] = b64(v);
+    }
+  } else {
+    missing.push_back("bfs.csv (no BFS levels or components to colour by)");
+  }
+
+  // Axon segments: from paths.csv when present (thinned to every k-th step if needed),
+  // else one straight segment from the soma to the tip. Each vertex carries the step at
+  // which the axon reached it; the shader hides fragments beyond the slider's time, so a
+  // segment grows continuously (one segment per axon is enough for a straight axon).
+  std::vector<float> seg_pos, seg_step;
+  std::vector<std::uint32_t> seg_owner;
+  auto add_segment = [&](std::uint32_t owner, const float* a, const float* b, float step_a, float step_b) {
+    seg_pos.insert(seg_pos.end(), a, a + 3);
+    seg_pos.insert(seg_pos.end(), b, b + 3);
+    seg_step.push_back(step_a);
+    seg_step.push_back(step_b);
+    seg_owner.push_back(owner);
+  };
+  if (load_csv(dir / "paths.csv", paths)) {
+    const std::size_t stride = (paths.rows.size() + kMaxPathPoints - 1) / kMaxPathPoints;
+    if (stride > 1)
+      notes.push_back(fmt::format("paths thinned: {} points, every {}th step kept (and each axon's last)",
+                                  paths.rows.size(), stride));
+    float prev[3] = {0, 0, 0};
+    float prev_step = 0;
+    long prev_id = -1;
+    for (std::size_t k = 0; k < paths.rows.size(); ++k) {
+      const auto& r = paths.rows[k];
+      const long id = static_cast<long>(num(r[0]));
+      const auto step = static_cast<std::uint32_t>(num(r[1]));
+      const float p[3] = {static_cast<float>(num(r[2])), static_cast<float>(num(r[3])), static_cast<float>(num(r[4]))};
+      const bool last = k + 1 == paths.rows.size() || static_cast<long>(num(paths.rows[k + 1][0])) != id;
+      if (id != prev_id) {
+        std::copy(p, p + 3, prev);
+        prev_step = static_cast<float>(step);
+        prev_id = id;
+        continue;
+      }
+      if (step % stride != 0 && !last) continue;
+      add_segment(static_cast<std::uint32_t>(id), prev, p, prev_step, static_cast<float>(step));
+      std::copy(p, p + 3, prev);
+      prev_step = static_cast<float>(step);
+    }
+  } else {
+    notes.push_back("no paths.csv (run with output.paths): axons drawn straight from soma to tip");
+    for (std::size_t i = 0; i < n; ++i)
+      add_segment(static_cast<std::uint32_t>(i), &soma[3 * i], &tip[3 * i], 0.0f, static_cast<float>(steps[i]));
+  }
+  data["paths"] = {{"points", b64(seg_pos)}, {"step", b64(seg_step)}, {"owner", b64(seg_owner)}};
+
+  json src = json::array();
+  if (load_csv(dir / "sources.csv", sources))
+    for (const auto& r : sources.rows) src.push_back({{"kind", r[1]}, {"x", num(r[2])}, {"y", num(r[3])}, {"z", num(r[4])}});
+  data["sources"] = src;
+
+  json frames = json::array();
+  if (load_csv(dir / "particles.csv", particles)) {
+    std::size_t start = 0;
+    while (start < particles.rows.size()) {
+      std::size_t end = start;
+      const std::string step = particles.rows[start][0];
+      while (end < particles.rows.size() && particles.rows[end][0] == step) ++end;
+      const std::size_t count = end - start, stride = (count + kMaxFrameParticles - 1) / kMaxFrameParticles;
+      if (stride > 1)
+        notes.push_back(fmt::format("particle frame at step {}: {} particles, every {}th shown", step, count, stride));
+      std::vector<float> pos;
+      std::vector<std::uint8_t> cue;
+      for (std::size_t k = start; k < end; k += stride) {
+        const auto& r = particles.rows[k];
+        for (int c = 2; c < 5; ++c) pos.push_back(static_cast<float>(num(r[c])));
+        cue.push_back(static_cast<std::uint8_t>(num(r[1])));
+      }
+      frames.push_back({{"step", num(step)}, {"pos", b64(pos)}, {"cue", b64(cue)}});
+      start = end;
+    }
+  }
+  data["frames"] = frames;
+
+  std::string title = fmt::format("axonguide: {}", fs::weakly_canonical(dir).filename().string());
+  if (fs::exists(dir / "manifest.json")) {
+    try {
+      const json m = json::parse(read_text(dir / "manifest.json"));
+      steps_run = std::max<std::uint32_t>(steps_run, m.at("summary").at("steps_run").get<std::uint32_t>());
+      title = fmt::format("axonguide: {} neurons, {} guidance, seed {}", m.at("summary").at("neurons").get<std::size_t>(),
+                          m.at("scene").at("guidance").at("model").get<std::string>(), m.at("seed").get<std::uint64_t>());
+    } catch (const std::exception&) {
+      notes.push_back("manifest.json unreadable");
+    }
+  } else {
+    missing.push_back("manifest.json");
+  }
+  meta["neurons"] = n;
+  meta["steps_run"] = steps_run;
+  meta["extent"] = extent + soma_radius;
+  meta["soma_radius"] = soma_radius;
+  meta["missing"] = missing;
+  meta["notes"] = notes;
+  meta["title"] = title;
+  data["meta"] = meta;
+
+  std::string page = read_text(viewer / "template.html");
+  auto fill = [&](const std::string& key, const std::string& value) {
+    const std::size_t p = page.find(key);
+    if (p != std::string::npos) page.replace(p, key.size(), value);
+  };
+  std::string data_text = data.dump();
+  // Inside <script>, "</" must not appear; JSON allows the escaped slash.
+  for (std::size_t p = 0; (p = data_text.find("</", p)) != std::string::npos; p += 3) data_text.replace(p, 2, "<\\/");
+  std::string notes_html;
+  auto escape = [](std::string t) {
+    std::string o;
+    for (char c : t) o += c == '<' ? std::string("&lt;") : c == '>' ? std::string("&gt;") : c == '&' ? std::string("&amp;") : std::string(1, c);
+    return o;
+  };
+  for (const auto& m : missing) notes_html += "<div>missing: " + escape(m) + "</div>";
+  for (const auto& note : notes) notes_html += "<div>" + escape(note) + "</div>";
+  fill("{{NOTES}}", notes_html);
+  fill("{{TITLE}}", title);
+  fill("{{CSS}}", read_text(viewer / "view.css"));
+  fill("{{IMPORTMAP}}", import_map(three));
+  fill("{{VIEWJS}}", read_text(viewer / "view.js"));
+  fill("{{DATA}}", data_text);
+  AtomicFile f(dir, "view.html");
+  f.write(page);
+  f.commit();
+  for (const auto& m : missing) std::fprintf(stderr, "axonguide: view: missing %s\n", m.c_str());
+  for (const auto& note : notes) std::fprintf(stderr, "axonguide: view: %s\n", note.c_str());
+  fmt::print("wrote {} ({:.1f} MiB): open it in a browser\n", (dir / "view.html").string(),
+             static_cast<double>(page.size()) / 1048576.0);
+  return kExitOk;
+}
+
+int cmd_plot(const std::string& dir_name) {
+  const fs::path dir(dir_name);
+  if (!fs::is_directory(dir)) throw InputError(fmt::format("plot: {} is not a directory", dir_name));
+  const std::string& python = validate::plotting_python();
+  if (python.empty()) throw RunError("plot: no python3 with matplotlib (install Debian's python3-matplotlib)");
+  const fs::path script = asset_dir("AXG_VIEWER_DIR", fs::path(AXG_SOURCE_DIR) / "viewer") / "plot_run.py";
+  const int rc = std::system(fmt::format("'{}' '{}' '{}'", python, script.string(), dir.string()).c_str());
+  if (rc != 0) throw RunError(fmt::format("plot: {} failed (exit {})", script.string(), rc));
+  return kExitOk;
+}
+
+}  // namespace axg::app

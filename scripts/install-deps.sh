@@ -33,7 +33,9 @@ fi
 
 # JavaScript packages pinned by package-lock.json (three.js), into ./node_modules.
 cd "$(dirname "$0")/.."
-if [ ! -f node_modules/three/package.json ] || ! cmp -s package-lock.json node_modules/.package-lock.json; then
+want=$(sed -n 's/.*"three": *"\([0-9.]*\)".*/\1/p' package.json)
+have=$(sed -n 's/^ *"version": *"\([0-9.]*\)".*/\1/p' node_modules/three/package.json 2>/dev/null | head -n 1 || true)
+if [ "$want" != "$have" ]; then
   echo "install-deps: npm ci (three.js for the viewer)"
   npm ci --no-audit --no-fund --loglevel=error
 fi

@@ -83,14 +83,21 @@ std::vector<std::string> split(const std::string& line) {
   return cells;
 }
 
+// False when the file is absent; InputError when a row has fewer cells than the header
+// (a truncated or hand-edited file).
 bool load_csv(const fs::path& p, Csv& out) {
   std::ifstream in(p);
   if (!in) return false;
   std::string line;
   if (!std::getline(in, line)) return false;
   out.header = split(line);
-  while (std::getline(in, line))
-    if (!line.empty()) out.rows.push_back(split(line));
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    out.rows.push_back(split(line));
+    if (out.rows.back().size() < out.header.size())
+      throw InputError(fmt::format("view: {}: line {} has {} cells, the header has {}", p.string(), number,
+                                   out.rows.back().size(), out.header.size()));
+  }
   return true;
 }
 
@@ -137,7 +144,7 @@ int cmd_view(const std::string& dir_name) {
   std::uint32_t steps_run = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = neurons.rows[i];
-    if (r.size() < 12) throw InputError(fmt::format("view: {}: row {} is incomplete", (dir / "neurons.csv").string(), i + 2));
+    if (r.size() < 12) throw InputError(fmt::format("view: {}: line {} is incomplete", (dir / "neurons.csv").string(), i + 2));
     for (int k = 0; k < 3; ++k) soma[3 * i + k] = static_cast<float>(num(r[1 + k])), tip[3 * i + k] = static_cast<float>(num(r[6 + k]));
     soma_radius = num(r[4]);
     for (int s = 0; s < 4; ++s)

@@ -51,17 +51,12 @@ Scene paper_direct_scene(std::uint64_t neurons) {
 }
 
 Scene paper_cue_scene(std::uint64_t neurons) {
-  Scene s;
+  // The built-in scene's cues (two attractants, two repellents, particles, SNR) at the
+  // report's Table 5 setting.
+  Scene s = Scene::builtin_default();
   s.neurons.count = neurons;
   s.neurons.radius = 2.5;
   s.neurons.soma_radius = std::round(2.5 * std::cbrt(0.1 / static_cast<double>(neurons)) * 1e4) / 1e4;
-  s.guidance.model = GuidanceModel::kSnr;
-  s.cues.field = FieldKind::kParticles;
-  for (CueKind kind : {CueKind::kAttractant, CueKind::kRepellent, CueKind::kAttractant, CueKind::kRepellent}) {
-    Source src;
-    src.kind = kind;
-    s.cues.sources.push_back(src);
-  }
   s.steps = 100;
   return s;
 }

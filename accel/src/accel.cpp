@@ -54,6 +54,18 @@ std::unique_ptr<Engine> make_cuda_engine(const Scene&, const Placement&) {
 std::string cuda_device_description() { return "not built (no nvcc when axonguide was configured)"; }
 #endif
 
+std::string cuda_unavailable_reason() {
+  if (!cuda_built()) return "the CUDA accelerator was not built (no nvcc at configure time)";
+#if AXG_HAVE_CUDA_ENGINE
+  try {
+    gpu::require_device();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+#endif
+  return {};
+}
+
 BfsResult bfs_level_sync(const Csr& g, const std::vector<std::uint32_t>& sources, bool on_gpu) {
 #if AXG_HAVE_CUDA_ENGINE
   if (on_gpu) {

@@ -725,6 +725,7 @@ class AccelEngine final : public Engine {
   }
 
   void init_field() {
+    check_grid_field(scene_, cues_host_);
     cues_.assign(cues_host_.begin(), cues_host_.end());
     if (scene_.cues.field == FieldKind::kParticles) {
       particle_start_.assign(hash_.buckets() + 1, 0);

@@ -126,7 +126,8 @@ GridGeometry3 grid_field_geometry(const Scene& scene) {
   GridGeometry3 g;
   g.h = scene.cues.grid.spacing;
   const double half = scene.bounds_radius();
-  g.n = static_cast<int>(std::ceil(2.0 * half / g.h)) + 1;
+  // Clamped for the conversion; check_grid_field refuses grids this large.
+  g.n = static_cast<int>(std::min(std::ceil(2.0 * half / g.h) + 1.0, kMaxGridNodes + 1.0));
   const double o = -0.5 * (g.n - 1) * g.h;
   g.origin = {o, o, o};
   return g;
@@ -134,7 +135,39 @@ GridGeometry3 grid_field_geometry(const Scene& scene) {
 
 std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt) {
   const double need = dt * (6.0 * cue.diffusion / (h * h) + cue.decay);
-  return static_cast<std::uint32_t>(std::max(1.0, std::ceil(need)));
+  return static_cast<std::uint32_t>(std::clamp(std::ceil(need), 1.0, kMaxSubsteps));
+}
+
+void check_grid_field(const Scene& scene, const std::vector<core::CueParams>& cues) {
+  if (!scene.uses_cues() || scene.cues.field != FieldKind::kGrid) return;
+  const double half = scene.bounds_radius(), h = scene.cues.grid.spacing;
+  const double n = std::ceil(2.0 * half / h) + 1.0;
+  if (n > kMaxGridNodes)
+    throw InputError(fmt::format(
+        "scene: cues.grid.spacing = {}: {:.3g} nodes per axis over the domain of half-width {}; at most {} are allowed",
+        h, n, half, kMaxGridNodes));
+  const std::uint64_t bytes = estimate_cue_bytes(scene);
+  const std::uint64_t have = physical_memory_bytes();
+  if (have != 0 && bytes > have)
+    throw InputError(fmt::format(
+        "scene: cues.grid.spacing = {}: {} cue grids of {}^3 nodes need an estimated {}, above this machine's {}; "
+        "use a coarser spacing or fewer sources",
+        h, cues.size(), static_cast<int>(n), human_bytes(static_cast<double>(bytes)), human_bytes(static_cast<double>(have))));
+  if (scene.cues.grid.scheme != GridScheme::kExplicit) return;
+  for (std::size_t k = 0; k < cues.size(); ++k) {
+    const double need = scene.dt * (6.0 * cues[k].diffusion / (h * h) + cues[k].decay);
+    if (need > kMaxSubsteps)
+      throw InputError(fmt::format(
+          "scene: cues.grid.scheme = \"explicit\": cue {} needs {:.3g} sub-steps per step (dt (6 D / h^2 + k) = {:.3g}), "
+          "more than {:.0g}; use the \"implicit\" scheme or a coarser cues.grid.spacing",
+          k, std::ceil(need), need, kMaxSubsteps));
+    if (need > 1.0 && !scene.cues.grid.allow_substeps)
+      throw InputError(fmt::format(
+          "scene: cues.grid.allow_substeps = false, but the explicit scheme needs {} sub-steps per step for cue {}: "
+          "dt (6 D / h^2 + k) = {:.4g} exceeds the stability limit 1 (h = {}, dt = {}); allow sub-steps, use a coarser "
+          "cues.grid.spacing, or the \"implicit\" scheme",
+          explicit_substeps(cues[k], h, scene.dt), k, need, h, scene.dt));
+  }
 }
 
 core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams& cue, double dt, bool reflecting) {
@@ -180,7 +213,8 @@ std::uint64_t estimate_cue_bytes(const Scene& scene) {
       // state (position, velocity, id, source, flags) and grid (keys, index, sorted copies)
       const double per = 24 + 24 + 8 + 2 + 4 + 4 * 4 + 24 + 2;
       const HashGeometry h = particle_hash_geometry(scene);
-      return static_cast<std::uint64_t>(expected_particles(scene) * per * 2 + h.buckets() * 4.0);
+      const double b = expected_particles(scene) * per * 2 + static_cast<double>(h.buckets()) * 4.0;
+      return b >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(b);
     }
   }
   return 0;

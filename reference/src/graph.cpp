@@ -128,11 +128,14 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
     if (bottom_up) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& b) {
         Found& out = local.local();
+        // Relaxed atomic accesses: other threads read levels this pass writes (a written
+        // level is level + 1, never `level`, so what they read does not change the result).
+        auto load = [&](std::uint32_t u) { return std::atomic_ref<std::int32_t>(r.level[u]).load(std::memory_order_relaxed); };
         for (std::size_t v = b.begin(); v != b.end(); ++v) {
-          if (r.level[v] != -1) continue;
+          if (load(static_cast<std::uint32_t>(v)) != -1) continue;
           for (std::uint32_t k = in.offsets[v]; k < in.offsets[v + 1]; ++k)
-            if (r.level[in.targets[k]] == level) {
-              r.level[v] = level + 1;  // != level, so other scans of this pass are unaffected
+            if (load(in.targets[k]) == level) {
+              std::atomic_ref<std::int32_t>(r.level[v]).store(level + 1, std::memory_order_relaxed);
               r.parent[v] = in.targets[k];
               out.vertices.push_back(static_cast<std::uint32_t>(v));
               out.edges += degree(static_cast<std::uint32_t>(v));

@@ -37,13 +37,6 @@ class GridField final : public CueField {
     if (scheme_ == GridScheme::kExplicit) {
       buffer_[1].assign(cues_.size() * nodes, 0.0);
       for (const auto& cue : cues_) substeps_.push_back(explicit_substeps(cue, geometry_.h, dt_));
-      const std::uint32_t worst = *std::max_element(substeps_.begin(), substeps_.end());
-      if (worst > 1 && !scene.cues.grid.allow_substeps)
-        throw InputError(fmt::format(
-            "scene: cues.grid.allow_substeps = false, but the explicit scheme needs {} sub-steps per step: "
-            "dt (6 D / h^2 + k) = {:.4g} exceeds the stability limit 1 (h = {}, dt = {}); allow sub-steps, "
-            "use a coarser cues.grid.spacing, or the \"implicit\" scheme",
-            worst, dt_ * (6.0 * cues_[0].diffusion / (geometry_.h * geometry_.h) + cues_[0].decay), geometry_.h, dt_));
     }
   }
 
@@ -147,19 +140,9 @@ std::unique_ptr<CueField> make_reference_field(const Scene& scene, const std::ve
   switch (scene.cues.field) {
     case FieldKind::kParticles: return make_particle_field(scene, cues);
     case FieldKind::kAnalytic: return std::make_unique<AnalyticField>(scene, cues);
-    case FieldKind::kGrid: {
-      const std::uint64_t bytes = estimate_cue_bytes(scene);
-      const std::uint64_t have = physical_memory_bytes();
-      if (have != 0 && bytes > have) {
-        const GridGeometry3 g = grid_field_geometry(scene);
-        throw InputError(fmt::format(
-            "scene: cues.grid.spacing = {}: {} cue grids of {}^3 nodes need an estimated {}, above this machine's {}; "
-            "use a coarser spacing or fewer sources",
-            scene.cues.grid.spacing, scene.source_count(), g.n, human_bytes(static_cast<double>(bytes)),
-            human_bytes(static_cast<double>(have))));
-      }
+    case FieldKind::kGrid:
+      check_grid_field(scene, cues);
       return std::make_unique<GridField>(scene, cues);
-    }
   }
   return nullptr;
 }

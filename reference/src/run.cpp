@@ -62,6 +62,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   if (scene.neurons.count >= core::kNoNeuron)
     throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)",
                                  scene.neurons.count, core::kNoNeuron));
+  check_grid_field(scene, make_cues(scene));  // every backend refuses the same grids
   RunResult r;
   r.scene = scene;
   Placement placement;

@@ -189,7 +189,8 @@ core::Vec3 read_position(const json& v, const std::string& path) {
 
 void read_source_common(ObjectReader& r, double& emission, double& diffusion, double& decay,
                         double& kd) {
-  r.number("emission", emission, non_negative());
+  // Particles per step; 2^31 keeps every per-step count and particle id exact.
+  r.number("emission", emission, closed(0, 2147483648.0));
   r.number("diffusion", diffusion, positive());
   r.number("decay", decay, non_negative());
   r.number("kd", kd, positive());

@@ -11,26 +11,9 @@ namespace {
 
 const EngineFactory kCuda = [](const Scene& s, const Placement& p) { return accel::make_cuda_engine(s, p); };
 
-// Empty when the GPU can run; otherwise why not.
-std::string why_no_gpu() {
-  if (!accel::cuda_built()) return "the CUDA accelerator was not built (no nvcc at configure time)";
-  try {
-    Scene probe;
-    probe.neurons.count = 1;
-    probe.guidance.model = GuidanceModel::kDirect;
-    Placement p;
-    p.soma = {{0, 0, 0}};
-    p.heading = {{1, 0, 0}};
-    accel::make_cuda_engine(probe, p);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return {};
-}
-
 #define SKIP_WITHOUT_GPU()                                     \
   do {                                                         \
-    static const std::string reason = why_no_gpu();            \
+    static const std::string reason = accel::cuda_unavailable_reason();            \
     if (!reason.empty()) GTEST_SKIP() << "no GPU: " << reason; \
   } while (0)
 

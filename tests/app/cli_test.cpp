@@ -52,6 +52,19 @@ TEST(cli, DefaultRunWritesEveryFileAtomically) {
   EXPECT_EQ(m["scene"], scene_to_json(Scene::builtin_default()));
 }
 
+// A cue scene without any source is valid: it grows straight, on every field.
+TEST(cli, CueGuidanceWithoutSourcesRuns) {
+  test::TempDir tmp;
+  for (const char* field : {"particles", "grid", "analytic"}) {
+    const std::string scene = write(tmp, std::string(field) + ".json",
+                                    fmt::format(R"({{"neurons": {{"count": 100, "region": {{"radius": 2.5}}}},
+        "cues": {{"field": "{}", "grid": {{"scheme": "explicit", "spacing": 0.5}}}}}})",
+                                                field));
+    const Result r = run(fmt::format("run {} -q --out {}/{}", scene, tmp.path().string(), field), tmp);
+    EXPECT_EQ(r.code, 0) << field << ": " << r.err;
+  }
+}
+
 TEST(cli, SceneDefaultPrintsAValidScene) {
   test::TempDir tmp;
   const Result r = run("scene default", tmp);
@@ -93,6 +106,10 @@ TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
   write(tmp, "nosubsteps.json",
         R"({"cues": {"field": "grid", "random_sources": {"count": 1}, "grid": {"spacing": 0.05, "scheme": "explicit", "allow_substeps": false}}})");
   write(tmp, "toomanycues.json", R"({"cues": {"random_sources": {"count": 65}}})");
+  write(tmp, "hugeemission.json", R"({"cues": {"sources": [{"emission": 5e9}]}})");
+  write(tmp, "endless.json",
+        R"({"cues": {"field": "grid", "sources": [{"diffusion": 1e6}], "grid": {"spacing": 0.1, "scheme": "explicit"}}})");
+  write(tmp, "gridnodes.json", R"({"cues": {"field": "grid", "grid": {"spacing": 0.002}}})");
   std::string args = GetParam().args;
   for (std::size_t p; (p = args.find("{tmp}")) != std::string::npos;) args.replace(p, 5, tmp.path().string());
   const Result r = run(args, tmp);
@@ -117,6 +134,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"run {tmp}/hugegrid2.json --out {tmp}/o", 2, "cues.grid.spacing = 0.001"},
         BadRun{"run {tmp}/nosubsteps.json --out {tmp}/o", 2, "cues.grid.allow_substeps = false"},
         BadRun{"run {tmp}/toomanycues.json --out {tmp}/o", 2, "at most 64 cue sources"},
+        BadRun{"run {tmp}/hugeemission.json --out {tmp}/o", 2, "cues.sources[0].emission = 5000000000.0: must be in [0, 2147483648]"},
+        BadRun{"run {tmp}/endless.json --out {tmp}/o", 2, "sub-steps per step"},
+        BadRun{"run {tmp}/gridnodes.json --out {tmp}/o", 2, "nodes per axis"},
         BadRun{"run --seed -3 --out {tmp}/o", 2, "--seed -3: must be an unsigned 64-bit integer"},
         BadRun{"run --seed 99999999999999999999 --out {tmp}/o", 2, "must be an unsigned 64-bit integer"},
         BadRun{"run --threads -1 --out {tmp}/o", 2, "--threads"},

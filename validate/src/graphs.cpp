@@ -122,21 +122,8 @@ void validate_bfs(const Options& o, Report& r) {
 }
 
 void validate_gpu(const Options& o, Report& r) {
-  if (!accel::cuda_built()) {
-    r.skip("reference vs cuda, byte for byte", "the CUDA accelerator was not built (no nvcc at configure time)");
-    return;
-  }
-  // A probe: is there a usable device?
-  try {
-    Scene probe;
-    probe.neurons.count = 1;
-    probe.guidance.model = GuidanceModel::kDirect;
-    Placement p;
-    p.soma = {{0, 0, 0}};
-    p.heading = {{1, 0, 0}};
-    accel::make_cuda_engine(probe, p);
-  } catch (const std::exception& e) {
-    r.skip("reference vs cuda, byte for byte", std::string("no usable GPU: ") + e.what());
+  if (const std::string why = accel::cuda_unavailable_reason(); !why.empty()) {
+    r.skip("reference vs cuda, byte for byte", why);
     return;
   }
   r.text("Device: " + accel::cuda_device_description());
@@ -146,9 +133,11 @@ void validate_gpu(const Options& o, Report& r) {
   for (const char* dir : {"scenes"}) {
     const fs::path root = fs::path(AXG_SOURCE_DIR) / dir;
     if (!fs::exists(root)) continue;
+    std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(root))
-      if (e.path().extension() == ".json")
-        scenes.emplace_back(e.path().filename().string(), load_scene_file(e.path().string()).scene);
+      if (e.path().extension() == ".json") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) scenes.emplace_back(f.filename().string(), load_scene_file(f.string()).scene);
   }
   if (o.quick) scenes.resize(std::min<std::size_t>(scenes.size(), 3));
   for (const auto& [name, scene] : scenes) {

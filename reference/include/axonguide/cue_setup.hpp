@@ -39,8 +39,17 @@ struct GridGeometry3 {
 // Nodes spanning the domain's cube [-R_b, R_b]^3 at the scene's spacing.
 GridGeometry3 grid_field_geometry(const Scene& scene);
 
-// Explicit sub-steps needed by cue k: ceil(dt (6 D / h^2 + k)).
+// Explicit sub-steps needed by cue k: ceil(dt (6 D / h^2 + k)) (at most kMaxSubsteps:
+// check_grid_field refuses scenes that need more).
+inline constexpr double kMaxSubsteps = 1e6;
 std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt);
+
+// Scene errors of a grid field, checked before anything is allocated and for every
+// backend: more than kMaxGridNodes nodes per axis, a memory estimate above the machine's,
+// an explicit scheme that needs sub-steps the scene forbids or more than kMaxSubsteps.
+// Throws InputError (exit 2) naming the key.
+inline constexpr double kMaxGridNodes = 4096;
+void check_grid_field(const Scene& scene, const std::vector<core::CueParams>& cues);
 core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams& cue, double dt, bool reflecting);
 
 // The summary line of a grid field ("explicit grid, 109^3 nodes, h = 0.1, sub-steps per

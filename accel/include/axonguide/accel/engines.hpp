@@ -22,6 +22,9 @@ bool cuda_built();
 std::unique_ptr<Engine> make_cuda_engine(const Scene& scene, const Placement& placement);
 // "NVIDIA H100 80GB HBM3, compute 9.0, 79.1 GiB" or the reason there is none.
 std::string cuda_device_description();
+// Empty when the CUDA engine can run here; otherwise why not (not built, or the CUDA
+// error text). Tests and `validate gpu` report it when they skip.
+std::string cuda_unavailable_reason();
 
 // The same pipeline on the CPU (Thrust's sequential host system).
 std::unique_ptr<Engine> make_emulated_engine(const Scene& scene, const Placement& placement);

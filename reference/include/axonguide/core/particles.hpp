@@ -41,9 +41,15 @@ struct HashGridView {
   const std::uint16_t* source;      // cue index in that order
 };
 
+// floor((v - origin) / cell), clamped to +-2^30 so that the conversion and the +-1 of the
+// neighbour loops stay within int (a domain that large only ever shares buckets).
 AXG_HDI int hash_coord(double v, double origin, double cell) {
-  const double t = (v - origin) / cell;
-  return t >= 0.0 ? static_cast<int>(t) : static_cast<int>(t) - 1;  // floor for t >= -2^31
+  double t = (v - origin) / cell;
+  if (!(t > -1073741824.0)) t = -1073741824.0;
+  if (t > 1073741824.0) t = 1073741824.0;
+  int i = static_cast<int>(t);
+  if (static_cast<double>(i) > t) --i;
+  return i;
 }
 
 AXG_HDI std::uint32_t hash_bucket(int x, int y, int z, int dim) {

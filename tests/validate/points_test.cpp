@@ -1,0 +1,57 @@
+// `validate samplers --points FILE.csv`: a point set made elsewhere passes when uniform
+// and fails (exit 1, naming the test) when not; malformed files are refused (exit 2).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "axonguide/core/random.hpp"
+#include "axonguide/core/sampler.hpp"
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+int run(const std::string& args, std::string* err) {
+  test::TempDir tmp;
+  const auto e = tmp.path() / "err.txt";
+  const int status = std::system(fmt::format("{} {} > /dev/null 2> {}", test::binary(), args, e.string()).c_str());
+  *err = test::read_file(e);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(points, UniformPassesNaiveFailsGarbageIsRefused) {
+  test::TempDir tmp;
+  {
+    std::ofstream uniform(tmp.path() / "uniform.csv"), naive(tmp.path() / "naive.csv"), ball(tmp.path() / "ball.csv");
+    uniform << "x,y,z\n";
+    for (std::uint64_t i = 0; i < 3000; ++i) {
+      core::Rng rng(77, core::Stream::kValidation, i, 900);
+      const core::Vec3 v = core::direction_normal(rng);
+      uniform << fmt::format("{},{},{}\n", v.x, v.y, v.z);
+      const core::Vec3 b = 2.0 * core::unit_ball_rejection(rng);
+      ball << fmt::format("{},{},{}\n", b.x, b.y, b.z);
+      const double theta = 3.141592653589793 * rng.uniform(), phi = 6.283185307179586 * rng.uniform();
+      naive << fmt::format("{},{},{}\n", std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    }
+    std::ofstream(tmp.path() / "ragged.csv") << "1,0,0\n0,1\n";
+  }
+  const std::string report = (tmp.path() / "r").string();
+  std::string err;
+  EXPECT_EQ(run(fmt::format("validate samplers --points {}/uniform.csv --report {}", tmp.path().string(), report), &err), 0)
+      << err;
+  EXPECT_EQ(run(fmt::format("validate samplers --points {}/ball.csv --radius 2 --report {}", tmp.path().string(), report),
+                &err),
+            0)
+      << err;
+  EXPECT_EQ(run(fmt::format("validate samplers --points {}/naive.csv --report {}", tmp.path().string(), report), &err), 1);
+  EXPECT_NE(err.find("FAILED"), std::string::npos) << err;
+  EXPECT_EQ(run(fmt::format("validate samplers --points {}/ragged.csv --report {}", tmp.path().string(), report), &err), 2);
+  EXPECT_NE(err.find("line 2 has 2 columns"), std::string::npos) << err;
+  EXPECT_EQ(run(fmt::format("validate samplers --points {}/ball.csv --report {}", tmp.path().string(), report), &err), 2);
+  EXPECT_NE(err.find("beyond --radius 1"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace axg

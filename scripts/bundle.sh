@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Makes a relocatable bundle of the built binaries for a machine that has a GPU but none
-# of our Debian libraries (a GPU cluster node): the command, the test and benchmark
-# binaries, the CTest files, and every shared library they need that is not part of the
-# C runtime. Run them with LD_LIBRARY_PATH=<bundle>/lib.
+# of our Debian libraries (a GPU cluster node): the command and the test binaries, every
+# shared library they need that is not part of the C runtime, and the files they read at
+# run time (scenes, golden networks, test tables and scripts, plot scripts, the viewer and
+# three.js). On the target:
+#   bundle/run-tests.sh [GTEST_ARGS]   every test binary, golden check, validate --quick
+#   bundle/axonguide ARGS              the command, with the bundle's paths set
 #   scripts/bundle.sh [BUILD_DIR] [BUNDLE_DIR]      (defaults: build, bundle)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,11 +13,12 @@ build=${1:-build}
 out=${2:-bundle}
 [ -x "$build/bin/axonguide" ] || { echo "bundle.sh: $build/bin/axonguide not built" >&2; exit 2; }
 rm -rf "$out"
-mkdir -p "$out/bin" "$out/tests" "$out/lib"
+mkdir -p "$out/bin" "$out/tests" "$out/lib" "$out/node_modules/three/build" \
+         "$out/node_modules/three/examples/jsm/controls" "$out/validate" "$out/tests/app"
 cp "$build/bin/axonguide" "$out/bin/"
 for t in "$build"/tests/*_test; do [ -x "$t" ] && cp "$t" "$out/tests/"; done
-# Libraries from ldd, except the C runtime and the dynamic loader (the target has newer ones).
-for f in "$out"/bin/* "$out"/tests/*; do
+# Libraries from ldd, except the C runtime and the dynamic loader (the target has its own).
+for f in "$out"/bin/* "$out"/tests/*_test; do
   ldd "$f" | awk '/=> \// {print $3}'
 done | sort -u | while read -r lib; do
   case "$(basename "$lib")" in
@@ -22,22 +26,44 @@ done | sort -u | while read -r lib; do
     *) cp -L "$lib" "$out/lib/" ;;
   esac
 done
-# Scenes and data the tests read; run-tests.sh points AXG_SOURCE_DIR at this copy.
-cp -r scenes "$out/"
-[ -d data ] && cp -r data "$out/"
-cp -r tests/data "$out/tests/data" 2>/dev/null || true
+cp -r scenes data viewer "$out/"
+cp -r validate/plots "$out/validate/"
+cp -r tests/data "$out/tests/"
+cp tests/app/*.py "$out/tests/app/"
+if [ -f node_modules/three/package.json ]; then
+  cp node_modules/three/package.json "$out/node_modules/three/"
+  cp node_modules/three/build/three.module.js node_modules/three/build/three.core.js "$out/node_modules/three/build/"
+  cp node_modules/three/examples/jsm/controls/OrbitControls.js "$out/node_modules/three/examples/jsm/controls/"
+fi
+cat > "$out/env.sh" <<'ENV'
+# Sourced by the bundle's scripts: library and asset paths of this bundle.
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+export LD_LIBRARY_PATH="$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+export AXG_SOURCE_DIR="$here" AXG_BINARY="$here/bin/axonguide" AXG_PLOTS_DIR="$here/validate/plots"
+export AXG_VIEWER_DIR="$here/viewer" AXG_THREE_DIR="$here/node_modules/three"
+ENV
+cat > "$out/axonguide" <<'RUN'
+#!/usr/bin/env bash
+source "$(dirname "$0")/env.sh"
+exec "$here/bin/axonguide" "$@"
+RUN
 cat > "$out/run-tests.sh" <<'RUN'
 #!/usr/bin/env bash
-# Runs every test binary of the bundle (GPU tests included); prints one line per binary.
+# Every test binary of the bundle (GPU tests included), the golden networks and the quick
+# validation; one line each. Arguments go to the test binaries (e.g. --gtest_filter=...).
 set -u
-here=$(cd "$(dirname "$0")" && pwd)
-export LD_LIBRARY_PATH="$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-export AXG_SOURCE_DIR="$here" AXG_BINARY="$here/bin/axonguide"
+source "$(dirname "$0")/env.sh"
 status=0
 for t in "$here"/tests/*_test; do
   if "$t" "$@" > "$t.log" 2>&1; then echo "PASS $(basename "$t")"; else echo "FAIL $(basename "$t") (see $t.log)"; status=1; fi
 done
+if "$here/bin/axonguide" golden check --dir "$here/data/golden" > "$here/golden.log" 2>&1; then echo "PASS golden check"; else echo "FAIL golden check (see $here/golden.log)"; status=1; fi
+if "$here/bin/axonguide" validate all --quick --report "$here/validation" > "$here/validation.log" 2>&1; then
+  echo "PASS validate all --quick ($here/validation/report.md)"
+else
+  echo "FAIL validate all --quick (see $here/validation.log)"; status=1
+fi
 exit $status
 RUN
-chmod +x "$out/run-tests.sh"
+chmod +x "$out/axonguide" "$out/run-tests.sh"
 du -sh "$out" | awk '{print "bundle.sh: " $2 " is " $1}'

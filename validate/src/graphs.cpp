@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <map>
 
 #include <fmt/format.h>
@@ -131,7 +132,8 @@ void validate_gpu(const Options& o, Report& r) {
   const fs::path tmp = fs::temp_directory_path() / fmt::format("axonguide-validate-gpu-{}", ::getpid());
   std::vector<std::pair<std::string, Scene>> scenes{{"builtin-default", Scene::builtin_default()}};
   for (const char* dir : {"scenes"}) {
-    const fs::path root = fs::path(AXG_SOURCE_DIR) / dir;
+    const char* env = std::getenv("AXG_SOURCE_DIR");
+    const fs::path root = fs::path(env && *env ? env : AXG_SOURCE_DIR) / dir;
     if (!fs::exists(root)) continue;
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(root))

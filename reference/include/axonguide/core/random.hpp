@@ -25,7 +25,7 @@ namespace axg::core {
 enum class Stream : std::uint32_t {
   kPlacement = 1,         // id = neuron, step = attempt: soma position
   kAxonDirection = 2,     // id = neuron, step = 0: initial heading
-  kSourcePosition = 3,    // id = source index, step = attempt: sampled cue source position
+  kSourcePosition = 3,    // id = source index, step = 0: sampled cue source position
   kParticleEmission = 4,  // id = particle id, step = birth step: offset and velocity at birth
   kParticleMotion = 5,    // id = particle id, step = step: Brownian increment, then the survival draw
   kParticleDecay = 6,     // retired (survival now follows the motion draws of kParticleMotion)

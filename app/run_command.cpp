@@ -101,16 +101,20 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
     graph += fmt::format(", BFS from {} source{} reached {} (max level {})", s.analysis.bfs_sources.size(),
                          s.analysis.bfs_sources.size() == 1 ? "" : "s", r.graph.bfs->reached, r.graph.bfs->max_level);
   fmt::print("graph     {}\n", graph);
-  double steps_time = 0;
+  double steps_time = 0, grow_time = 0;
   for (const auto& row : r.times.rows())
-    if (row.step > 0) steps_time += row.seconds;
+    if (row.step > 0) {
+      steps_time += row.seconds;
+      if (row.phase == "grow" || row.phase == "compact") grow_time += row.seconds;
+    }
   const double axon_steps = [&] {
     double a = 0;
     for (std::size_t k = 0; k + 1 < r.stats.size(); ++k) a += static_cast<double>(r.stats[k].growing);
     return a;
   }();
-  fmt::print("time      {:.3f} s total: placement {:.3f}, steps {:.3f} ({:.3g} axon-steps/s), graph {:.3f}\n", wall,
-             r.times.total("placement"), steps_time, steps_time > 0 ? axon_steps / steps_time : 0.0,
+  fmt::print("time      {:.3f} s total: placement {:.3f}, steps {:.3f} (growth {:.3g} axon-steps/s{}), graph {:.3f}\n",
+             wall, r.times.total("placement"), steps_time, grow_time > 0 ? axon_steps / grow_time : 0.0,
+             s.uses_cues() ? fmt::format("; cue fields and steering {:.3f} s", steps_time - grow_time) : "",
              r.times.total("graph"));
 }
 

@@ -43,20 +43,6 @@ std::vector<int> boost_levels(const BoostCsr& bg, const std::vector<std::uint32_
   return level;
 }
 
-Csr random_graph(std::size_t n, std::size_t m) {
-  std::vector<std::uint32_t> src(m), dst(m);
-  for (std::size_t k = 0; k < m; ++k) {
-    core::Rng rng(7, core::Stream::kBenchmark, k, 1);
-    src[k] = rng.word32() % static_cast<std::uint32_t>(n);
-    dst[k] = rng.word32() % static_cast<std::uint32_t>(n);
-  }
-  // Sort edges by (source, target) so neighbour lists are ascending.
-  std::vector<std::uint64_t> key(m);
-  for (std::size_t k = 0; k < m; ++k) key[k] = (std::uint64_t{src[k]} << 32) | dst[k];
-  std::sort(key.begin(), key.end());
-  for (std::size_t k = 0; k < m; ++k) src[k] = key[k] >> 32, dst[k] = static_cast<std::uint32_t>(key[k]);
-  return csr_from_edges(n, src, dst);
-}
 
 }  // namespace
 
@@ -75,7 +61,7 @@ std::vector<Row> bfs(const Options& o) {
     std::vector<std::uint32_t> sources;
   };
   std::vector<Case> cases;
-  cases.push_back({fmt::format("random digraph, {} vertices, avg out-degree 8, from vertex 0", n), random_graph(n, 8 * n),
+  cases.push_back({fmt::format("random digraph, {} vertices, avg out-degree 8, from vertex 0", n), random_digraph(n, 8 * n, 7, core::Stream::kBenchmark, 1),
                    std::vector<std::uint32_t>{0}});
   {
     const Scene scene = paper_direct_scene(o.quick ? 20000 : 1000000);

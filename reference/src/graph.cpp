@@ -24,6 +24,22 @@ Csr csr_from_edges(std::size_t vertices, const std::vector<std::uint32_t>& sourc
   return g;
 }
 
+Csr random_digraph(std::size_t vertices, std::size_t edges, std::uint64_t seed, core::Stream stream,
+                   std::uint32_t step) {
+  std::vector<std::uint64_t> key(edges);
+  const auto n = static_cast<std::uint32_t>(vertices);
+  tbb::parallel_for(std::size_t{0}, edges, [&](std::size_t k) {
+    core::Rng rng(seed, stream, k, step);
+    const std::uint32_t a = rng.word32() % n, b = rng.word32() % n;
+    key[k] = (std::uint64_t{a} << 32) | b;
+  });
+  std::sort(key.begin(), key.end());
+  key.erase(std::unique(key.begin(), key.end()), key.end());
+  std::vector<std::uint32_t> src(key.size()), dst(key.size());
+  for (std::size_t k = 0; k < key.size(); ++k) src[k] = static_cast<std::uint32_t>(key[k] >> 32), dst[k] = static_cast<std::uint32_t>(key[k]);
+  return csr_from_edges(vertices, src, dst);
+}
+
 Csr transpose(const Csr& g) {
   const std::size_t n = g.vertices();
   std::vector<std::uint32_t> src, dst;

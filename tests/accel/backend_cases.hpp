@@ -18,6 +18,17 @@ struct NamedScene {
 };
 inline void PrintTo(const NamedScene& s, std::ostream* os) { *os << s.name; }
 
+// Test-name suffix of a scene: its name with every non-alphanumeric character as '_'.
+struct SceneName {
+  template <class Info>
+  std::string operator()(const Info& info) const {
+    std::string n = info.param.name;
+    for (char& c : n)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return n;
+  }
+};
+
 // Every bundled scene, every golden scene, the default, and one small variant per field,
 // motion, scheme, boundary, steering model, sampler and contact rule. `small` shrinks the
 // bundled scenes (the CPU emulation runs its kernels on one thread).

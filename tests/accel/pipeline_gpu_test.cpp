@@ -24,13 +24,7 @@ TEST_P(GpuScene, EqualsTheReferenceByteForByte) {
   test::expect_same_as_reference(GetParam().scene, kCuda, GetParam().name);
 }
 
-INSTANTIATE_TEST_SUITE_P(gpu, GpuScene, ::testing::ValuesIn(test::backend_scenes(false)),
-                         [](const auto& info) {
-                           std::string n = info.param.name;
-                           for (char& c : n)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(gpu, GpuScene, ::testing::ValuesIn(test::backend_scenes(false)), test::SceneName{});
 
 TEST(gpu, RandomScenesEqualTheReference) {
   SKIP_WITHOUT_GPU();
@@ -51,19 +45,7 @@ TEST(gpu, GraphKernelsEqualTheReference) {
   SKIP_WITHOUT_GPU();
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     const std::size_t n = 1000 * seed;
-    std::vector<std::uint32_t> s, t;
-    for (std::size_t k = 0; k < 3 * n; ++k) {
-      core::Rng rng(seed, core::Stream::kValidation, k, 8);
-      s.push_back(rng.word32() % n);
-      t.push_back(rng.word32() % n);
-    }
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> e;
-    for (std::size_t k = 0; k < s.size(); ++k) e.emplace_back(s[k], t[k]);
-    std::sort(e.begin(), e.end());
-    e.erase(std::unique(e.begin(), e.end()), e.end());
-    s.clear(), t.clear();
-    for (auto [a, b] : e) s.push_back(a), t.push_back(b);
-    const Csr g = csr_from_edges(n, s, t);
+    const Csr g = random_digraph(n, 3 * n, seed, core::Stream::kValidation, 8);
     const BfsResult ref = bfs(g, transpose(g), {0, 1});
     for (const BfsResult& r : {accel::bfs_level_sync(g, {0, 1}, true), accel::bfs_queue(g, {0, 1}, true)}) {
       EXPECT_EQ(r.level, ref.level) << seed;

@@ -21,13 +21,7 @@ TEST_P(EmulatedScene, EqualsTheReferenceByteForByte) {
   test::expect_same_as_reference(GetParam().scene, kEmulated, GetParam().name);
 }
 
-INSTANTIATE_TEST_SUITE_P(accel, EmulatedScene, ::testing::ValuesIn(test::backend_scenes(true)),
-                         [](const auto& info) {
-                           std::string n = info.param.name;
-                           for (char& c : n)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(accel, EmulatedScene, ::testing::ValuesIn(test::backend_scenes(true)), test::SceneName{});
 
 RC_GTEST_PROP(accel, RandomScenesEqualTheReference, ()) {
   const Scene s = *test::gen_cue_scene();
@@ -40,23 +34,11 @@ RC_GTEST_PROP(accel, RandomScenesEqualTheReference, ()) {
   RC_ASSERT(test::run_hashes(s, 2, kEmulated) == reference);
 }
 
-Csr random_csr(std::size_t n, std::size_t m, std::uint64_t seed) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> e;
-  for (std::size_t k = 0; k < m; ++k) {
-    core::Rng rng(seed, core::Stream::kValidation, k, 7);
-    e.emplace_back(rng.word32() % n, rng.word32() % n);
-  }
-  std::sort(e.begin(), e.end());
-  e.erase(std::unique(e.begin(), e.end()), e.end());
-  std::vector<std::uint32_t> s, t;
-  for (auto [a, b] : e) s.push_back(a), t.push_back(b);
-  return csr_from_edges(n, s, t);
-}
 
 RC_GTEST_PROP(accel, GraphKernelsEqualTheReference, ()) {
   const std::size_t n = *rc::gen::inRange<std::size_t>(1, 400);
   const std::size_t m = *rc::gen::inRange<std::size_t>(0, 4 * n);
-  const Csr g = random_csr(n, m, *rc::gen::arbitrary<std::uint64_t>());
+  const Csr g = random_digraph(n, m, *rc::gen::arbitrary<std::uint64_t>(), core::Stream::kValidation, 7);
   std::vector<std::uint32_t> sources{*rc::gen::inRange<std::uint32_t>(0, static_cast<std::uint32_t>(n))};
   if (*rc::gen::arbitrary<bool>()) sources.push_back(static_cast<std::uint32_t>(n - 1));
   const BfsResult ref = bfs(g, transpose(g), sources);

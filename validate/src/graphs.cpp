@@ -25,18 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Csr random_graph(std::size_t n, std::size_t m, std::uint64_t seed) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> e;
-  for (std::size_t k = 0; k < m; ++k) {
-    core::Rng rng(seed, core::Stream::kValidation, k, 300);
-    e.emplace_back(rng.word32() % n, rng.word32() % n);
-  }
-  std::sort(e.begin(), e.end());
-  e.erase(std::unique(e.begin(), e.end()), e.end());
-  std::vector<std::uint32_t> s, t;
-  for (auto [a, b] : e) s.push_back(a), t.push_back(b);
-  return csr_from_edges(n, s, t);
-}
 
 struct Comparison {
   std::size_t level_mismatch = 0, parent_violations = 0, component_mismatch = 0, reached = 0;
@@ -101,10 +89,10 @@ void validate_bfs(const Options& o, Report& r) {
   const std::size_t big = o.quick ? 20000 : 300000;
   for (double degree : {0.5, 1.0, 3.0, 8.0}) {
     const std::size_t n = degree > 4 ? big / 4 : big;
-    record(fmt::format("random digraph, mean out-degree {}", degree), random_graph(n, static_cast<std::size_t>(degree * n), 7),
+    record(fmt::format("random digraph, mean out-degree {}", degree), random_digraph(n, static_cast<std::size_t>(degree * n), 7, core::Stream::kValidation, 300),
            {0, 1, 2});
   }
-  record("random digraph, 1 vertex, no edge", random_graph(1, 0, 1), {0});
+  record("random digraph, 1 vertex, no edge", random_digraph(1, 0, 1, core::Stream::kValidation, 300), {0});
   for (std::uint64_t seed : {1u, 2u}) {
     Scene s = Scene::builtin_default();
     s.seed = seed;

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "axonguide/core/random.hpp"
+
 namespace axg {
 
 struct Csr {
@@ -37,6 +39,12 @@ struct BfsResult {
 // Level-synchronous BFS over the out-edges of g from every source at once (level 0).
 // `in` is transpose(g), used for the parent rule.
 BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sources);
+
+// A random digraph for tests, validation and benchmarks: `edges` endpoints pairs drawn
+// uniformly from Philox stream (seed, stream, pair index, step), duplicates removed,
+// neighbour lists ascending.
+Csr random_digraph(std::size_t vertices, std::size_t edges, std::uint64_t seed, core::Stream stream,
+                   std::uint32_t step);
 
 // Component label of every vertex of the undirected graph: its lowest vertex id.
 std::vector<std::uint32_t> components(const Csr& undirected_graph);

@@ -122,7 +122,7 @@ int cmd_view(const std::string& dir_name) {
   const fs::path dir(dir_name);
   if (!fs::is_directory(dir))
     throw InputError(fmt::format("view: {} is not a directory (give the --out directory of a run)", dir_name));
-  const fs::path source = asset_dir("AXG_SOURCE_DIR", AXG_SOURCE_DIR);
+  const fs::path source = validate::source_dir();
   const fs::path viewer = asset_dir("AXG_VIEWER_DIR", source / "viewer");
   const fs::path three = asset_dir("AXG_THREE_DIR", source / "node_modules" / "three");
   if (!fs::exists(three / "build" / "three.module.js"))
@@ -310,7 +310,7 @@ int cmd_plot(const std::string& dir_name) {
   const std::string& python = validate::plotting_python();
   if (python.empty()) throw RunError("plot: no python3 with matplotlib (install Debian's python3-matplotlib)");
   const fs::path script =
-      asset_dir("AXG_VIEWER_DIR", asset_dir("AXG_SOURCE_DIR", AXG_SOURCE_DIR) / "viewer") / "plot_run.py";
+      asset_dir("AXG_VIEWER_DIR", validate::source_dir() / "viewer") / "plot_run.py";
   const int rc = std::system(fmt::format("'{}' '{}' '{}'", python, script.string(), dir.string()).c_str());
   if (rc != 0) throw RunError(fmt::format("plot: {} failed (exit {})", script.string(), rc));
   return kExitOk;

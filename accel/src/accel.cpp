@@ -10,6 +10,13 @@ namespace axg::accel {
 
 bool cuda_built() { return AXG_HAVE_CUDA_ENGINE != 0; }
 
+void require_cuda_built() {
+  if (!cuda_built())
+    throw InputError(
+        "--backend cuda: not built: this axonguide was configured without the CUDA accelerator (no nvcc was found); "
+        "rebuild with the CUDA toolkit installed, or use --backend reference");
+}
+
 std::uint64_t estimate_device_bytes(const Scene& scene) {
   const double n = static_cast<double>(scene.neurons.count);
   // ids, soma keys/starts, sorted positions, tip, heading, length, status, steps,
@@ -47,9 +54,8 @@ std::unique_ptr<Engine> make_cuda_engine(const Scene& scene, const Placement& pl
 std::string cuda_device_description() { return gpu::device_description(); }
 #else
 std::unique_ptr<Engine> make_cuda_engine(const Scene&, const Placement&) {
-  throw InputError(
-      "--backend cuda: not built: this axonguide was configured without the CUDA accelerator (no nvcc was found); "
-      "rebuild with the CUDA toolkit installed, or use --backend reference");
+  require_cuda_built();
+  return nullptr;  // not reached
 }
 std::string cuda_device_description() { return "not built (no nvcc when axonguide was configured)"; }
 #endif
@@ -73,7 +79,7 @@ BfsResult bfs_level_sync(const Csr& g, const std::vector<std::uint32_t>& sources
     return gpu::bfs_level_sync(g, sources);
   }
 #else
-  if (on_gpu) throw InputError("the CUDA accelerator was not built");
+  if (on_gpu) require_cuda_built();
 #endif
   return emu::bfs_level_sync(g, sources);
 }
@@ -85,7 +91,7 @@ BfsResult bfs_queue(const Csr& g, const std::vector<std::uint32_t>& sources, boo
     return gpu::bfs_queue(g, sources);
   }
 #else
-  if (on_gpu) throw InputError("the CUDA accelerator was not built");
+  if (on_gpu) require_cuda_built();
 #endif
   return emu::bfs_queue(g, sources);
 }
@@ -97,7 +103,7 @@ std::vector<std::uint32_t> components(const Csr& g, bool on_gpu) {
     return gpu::components(g);
   }
 #else
-  if (on_gpu) throw InputError("the CUDA accelerator was not built");
+  if (on_gpu) require_cuda_built();
 #endif
   return emu::components(g);
 }

@@ -14,6 +14,7 @@
 #include "axonguide/error.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/threads.hpp"
+#include "axonguide/validate/report.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::validate {
@@ -81,9 +82,7 @@ std::string utc_now() {
 
 fs::path default_golden_dir() {
   if (fs::is_directory("data/golden")) return "data/golden";
-  const char* env = std::getenv("AXG_SOURCE_DIR");
-  const fs::path root = env && *env ? fs::path(env) : fs::path(AXG_SOURCE_DIR);
-  return root / "data" / "golden";
+  return source_dir() / "data" / "golden";
 }
 
 std::vector<GoldenResult> golden_check(const fs::path& dir, const EngineFactory& make, int threads) {

@@ -6,7 +6,6 @@
 
 #include <unistd.h>
 
-#include <cstdlib>
 #include <map>
 
 #include <fmt/format.h>
@@ -120,8 +119,7 @@ void validate_gpu(const Options& o, Report& r) {
   const fs::path tmp = fs::temp_directory_path() / fmt::format("axonguide-validate-gpu-{}", ::getpid());
   std::vector<std::pair<std::string, Scene>> scenes{{"builtin-default", Scene::builtin_default()}};
   for (const char* dir : {"scenes"}) {
-    const char* env = std::getenv("AXG_SOURCE_DIR");
-    const fs::path root = fs::path(env && *env ? env : AXG_SOURCE_DIR) / dir;
+    const fs::path root = source_dir() / dir;
     if (!fs::exists(root)) continue;
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(root))

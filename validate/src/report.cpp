@@ -18,6 +18,11 @@ std::string num(double v, int digits) {
   return fmt::format("{:.{}g}", v, digits);
 }
 
+fs::path source_dir() {
+  const char* env = std::getenv("AXG_SOURCE_DIR");
+  return env && *env ? fs::path(env) : fs::path(AXG_SOURCE_DIR);
+}
+
 fs::path plots_dir() {
   const char* env = std::getenv("AXG_PLOTS_DIR");
   return env && *env ? fs::path(env) : fs::path(AXG_PLOTS_DIR);

@@ -15,6 +15,8 @@ namespace axg::accel {
 
 // True when this build contains the CUDA engine.
 bool cuda_built();
+// Throws InputError (exit 2) saying the CUDA engine was not built, when it was not.
+void require_cuda_built();
 
 // The CUDA engine. Throws InputError when it was not built (exit 2) and RunError (exit
 // 3) when no usable GPU is present (with the CUDA error text) or when the scene's device

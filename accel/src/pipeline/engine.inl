@@ -1,0 +1,369 @@
+// The accelerator's engine: the per-step pipeline of SPEC §3.2 as launches of the kernels
+// of growth.inl, particles.inl and grid_field.inl, and the graph analysis of graph.inl.
+// Part of the pipeline (../pipeline.inl); compiled once per build of it.
+#pragma once
+
+namespace axg::accel::AXG_ACCEL_NS {
+
+class AccelEngine final : public Engine {
+ public:
+  AccelEngine(const Scene& scene, const Placement& placement)
+      : scene_(scene),
+        growth_(growth_params(scene)),
+        cues_host_(make_cues(scene)),
+        sense_(sense_params(scene)),
+        steer_(steer_params(scene)),
+        particle_params_(particle_params(scene)),
+        hash_(particle_hash_geometry(scene)),
+        grid_geometry_(grid_field_geometry(scene)) {
+    build_somas(placement);
+    const std::size_t n = placement.soma.size();
+    tip_.resize(n);
+    heading_.resize(n);
+    length_.assign(n, 0.0);
+    status_.assign(n, core::AxonStatus::kGrowing);
+    steps_.assign(n, 0);
+    target_.assign(n, core::kNoNeuron);
+    {
+      const dvec<Vec3> soma(placement.soma.begin(), placement.soma.end());
+      const dvec<Vec3> heading(placement.heading.begin(), placement.heading.end());
+      launch(n, InitAxons{raw(soma), raw(heading), raw(ids_), scene.neurons.soma_radius, raw(tip_), raw(heading_)});
+    }
+    active_.resize(n);
+    thrust::sequence(active_.begin(), active_.end());
+    active_next_.resize(n);
+    if (scene.uses_cues()) init_field();
+  }
+
+  StepStats step(std::uint32_t step, PhaseTimes& times) override {
+    if (scene_.uses_cues()) {
+      advance_field(step, times);
+      ScopedPhase p(times, step, "steer");
+      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), fields(), steer_, scene_.seed, step});
+    }
+    {
+      ScopedPhase p(times, step, "grow");
+      launch(active_.size(), Grow{raw(active_), raw(ids_), growth_, somas_view(), step, raw(tip_), raw(heading_),
+                                  raw(length_), raw(status_), raw(steps_), raw(target_)});
+    }
+    {
+      ScopedPhase p(times, step, "compact");
+      stats_.connected += static_cast<std::uint64_t>(thrust::count_if(
+          thrust::device, active_.begin(), active_.end(), StatusIs{raw(status_), core::AxonStatus::kConnected}));
+      stats_.exited += static_cast<std::uint64_t>(thrust::count_if(
+          thrust::device, active_.begin(), active_.end(), StatusIs{raw(status_), core::AxonStatus::kExited}));
+      const auto end = thrust::copy_if(thrust::device, active_.begin(), active_.end(), active_next_.begin(),
+                                       StatusIs{raw(status_), core::AxonStatus::kGrowing});
+      active_next_.resize(static_cast<std::size_t>(end - active_next_.begin()));
+      active_.swap(active_next_);
+      active_next_.resize(active_.capacity());
+    }
+    stats_.step = step;
+    stats_.growing = active_.size();
+    stats_.particles = pos_.size();
+    return stats_;
+  }
+
+  void particles(std::vector<Vec3>& pos, std::vector<std::uint16_t>& cue) override {
+    pos.resize(pos_.size());
+    cue.resize(source_.size());
+    thrust::copy(pos_.begin(), pos_.end(), pos.begin());
+    thrust::copy(source_.begin(), source_.end(), cue.begin());
+  }
+
+  void tips(std::vector<Vec3>& out) override {
+    dvec<Vec3> by_id(tip_.size());
+    launch(tip_.size(), ScatterBy<Vec3>{raw(tip_), raw(ids_), raw(by_id)});
+    out.resize(tip_.size());
+    thrust::copy(by_id.begin(), by_id.end(), out.begin());
+  }
+
+  void finish(NeuronState& out) override {
+    launch(active_.size(), MarkMaxSteps{raw(active_), raw(status_)});
+    const std::size_t n = tip_.size();
+    out.resize(n);
+    download_by_id(tip_, out.tip);
+    download_by_id(length_, out.length);
+    download_by_id(status_, out.status);
+    download_by_id(steps_, out.steps);
+    target_by_id_.resize(n);
+    launch(n, ScatterBy<std::uint32_t>{raw(target_), raw(ids_), raw(target_by_id_)});
+    thrust::copy(target_by_id_.begin(), target_by_id_.end(), out.target.begin());
+  }
+
+  // Edges from the per-axon slots: compacted (ascending source id), then CSR offsets as
+  // the cell starts of the sorted sources; BFS and components on the device.
+  bool analyze(const Scene& scene, GraphAnalysis& a) override {
+    const std::size_t n = tip_.size();
+    dvec<std::uint32_t> source(n);
+    const auto end = thrust::copy_if(thrust::device, thrust::counting_iterator<std::uint32_t>(0),
+                                     thrust::counting_iterator<std::uint32_t>(static_cast<std::uint32_t>(n)),
+                                     source.begin(), EdgeFlags{raw(target_by_id_)});
+    source.resize(static_cast<std::size_t>(end - source.begin()));
+    dvec<std::uint32_t> target(source.size()), offsets;
+    launch(source.size(), EdgeTargets{raw(source), raw(target_by_id_), raw(target)});
+    // Sources are already ascending (out-degree <= 1); the stable sort keeps the general
+    // construction (and costs one pass on sorted keys).
+    dvec<std::uint32_t> sorted_source = source;
+    thrust::stable_sort_by_key(thrust::device, sorted_source.begin(), sorted_source.end(), target.begin());
+    offsets.resize(n + 1);
+    launch(sorted_source.size() + 1,
+           FillCellStarts{raw(sorted_source), sorted_source.size(), static_cast<std::uint32_t>(n), raw(offsets)});
+    a.out.offsets.resize(n + 1);
+    a.out.targets.resize(target.size());
+    thrust::copy(offsets.begin(), offsets.end(), a.out.offsets.begin());
+    thrust::copy(target.begin(), target.end(), a.out.targets.begin());
+    for (std::size_t v = 0; v < n; ++v)
+      a.out.max_degree = std::max(a.out.max_degree, a.out.offsets[v + 1] - a.out.offsets[v]);
+    if (!scene.analysis.bfs_sources.empty()) {
+      const std::vector<std::uint32_t> sources(scene.analysis.bfs_sources.begin(), scene.analysis.bfs_sources.end());
+      DeviceCsr g(std::move(offsets), dvec<std::uint32_t>(target));
+      a.bfs = bfs_queue_device(g, sources);
+    }
+    if (scene.analysis.components) {
+      a.component = components_device(sorted_source, target, n);
+      summarize_components(a);
+    }
+    return true;
+  }
+
+  std::size_t bytes() const override {
+    const std::size_t n = tip_.size();
+    return n * (4 + 24 + 24 + 24 + 8 + 1 + 4 + 4 + 4 + 4) + soma_start_.size() * 4 +
+           pos_.capacity() * (24 + 8 + 2 + 1) + vel_.capacity() * 24 + grid_[0].size() * 8 + grid_[1].size() * 8;
+  }
+
+  std::string note() const override { return grid_field_note(scene_, cues_host_); }
+
+ private:
+  template <class T>
+  void download_by_id(dvec<T>& by_slot, std::vector<T>& out) {
+    dvec<T> by_id(by_slot.size());
+    launch(by_slot.size(), ScatterBy<T>{raw(by_slot), raw(ids_), raw(by_id)});
+    thrust::copy(by_id.begin(), by_id.end(), out.begin());
+  }
+
+  void build_somas(const Placement& placement) {
+    const GridGeometry g = soma_grid_geometry(scene_);
+    soma_geometry_ = g;
+    const std::size_t n = placement.soma.size();
+    const dvec<Vec3> pos(placement.soma.begin(), placement.soma.end());
+    dvec<std::uint32_t> keys(n);
+    ids_.resize(n);
+    const core::CellGridView geometry{g.origin, g.cell, g.nx, g.ny, g.nz, nullptr, nullptr, nullptr};
+    launch(n, SomaKeys{raw(pos), geometry, raw(keys), raw(ids_)});
+    sort_and_find_starts(keys, ids_, g.cells(), soma_start_);
+    soma_pos_.resize(n);
+    launch(n, GatherBy<Vec3>{raw(pos), raw(ids_), raw(soma_pos_)});
+  }
+
+  core::CellGridView somas_view() const {
+    const GridGeometry& g = soma_geometry_;
+    return {g.origin, g.cell, g.nx, g.ny, g.nz, raw(soma_start_), raw(ids_), raw(soma_pos_)};
+  }
+
+  void init_field() {
+    check_grid_field(scene_, cues_host_);
+    cues_.assign(cues_host_.begin(), cues_host_.end());
+    if (scene_.cues.field == FieldKind::kParticles) {
+      particle_start_.assign(hash_.buckets() + 1, 0);
+    } else if (scene_.cues.field == FieldKind::kGrid) {
+      const std::size_t nodes = grid_geometry_.nodes();
+      grid_[0].assign(cues_host_.size() * nodes, 0.0);
+      cur_.assign(cues_host_.size(), 0);
+      if (scene_.cues.grid.scheme == GridScheme::kExplicit) {
+        grid_[1].assign(cues_host_.size() * nodes, 0.0);
+        for (const auto& cue : cues_host_) substeps_.push_back(explicit_substeps(cue, grid_geometry_.h, scene_.dt));
+      } else {
+        lod_cp_.resize(nodes);
+        lod_dp_.resize(nodes);
+      }
+    }
+  }
+
+  CueFields fields() {
+    CueFields f{};
+    f.kind = scene_.cues.field;
+    f.d_cues = raw(cues_);
+    f.cue_count = static_cast<int>(cues_host_.size());
+    f.sense = sense_;
+    f.particles = particle_view();
+    f.grids = grid_set();
+    return f;
+  }
+
+  core::HashGridView particle_view() {
+    return {hash_.origin, hash_.cell, hash_.dim, raw(particle_start_), raw(particle_index_), raw(sorted_pos_),
+            raw(sorted_source_)};
+  }
+
+  core::GridFieldSet grid_set() {
+    core::GridFieldSet set{grid_geometry_.origin, grid_geometry_.h, grid_geometry_.n, {}};
+    for (std::size_t k = 0; k < cur_.size(); ++k) set.c[k] = raw(grid_[cur_[k]]) + k * grid_geometry_.nodes();
+    return set;
+  }
+
+  void advance_field(std::uint32_t step, PhaseTimes& times) {
+    switch (scene_.cues.field) {
+      case FieldKind::kParticles: advance_particles(step, times); break;
+      case FieldKind::kGrid: {
+        ScopedPhase p(times, step,
+                      scene_.cues.grid.scheme == GridScheme::kExplicit ? "grid.explicit" : "grid.implicit");
+        for (std::size_t k = 0; k < cues_host_.size(); ++k) {
+          if (scene_.cues.grid.scheme == GridScheme::kExplicit) explicit_step(k, step);
+          else implicit_step(k, step);
+        }
+        break;
+      }
+      case FieldKind::kAnalytic: break;
+    }
+  }
+
+  void advance_particles(std::uint32_t step, PhaseTimes& times) {
+    const bool ballistic = scene_.cues.particles.motion == Motion::kBallistic;
+    {
+      ScopedPhase p(times, step, "particles.emit");
+      std::vector<std::uint32_t> offsets(cues_host_.size() + 1, 0);
+      for (std::size_t k = 0; k < cues_host_.size(); ++k)
+        offsets[k + 1] = offsets[k] + core::emitted_at(cues_host_[k].emission, step);
+      const std::uint32_t emitted = offsets.back();
+      if (emitted > 0) {
+        const std::size_t first = pos_.size();
+        pos_.resize(first + emitted);
+        id_.resize(first + emitted);
+        source_.resize(first + emitted);
+        if (ballistic) vel_.resize(first + emitted);
+        const dvec<std::uint32_t> d_offsets(offsets.begin(), offsets.end());
+        launch(emitted, EmitParticles{next_id_, first, raw(d_offsets), static_cast<int>(cues_host_.size()), raw(cues_),
+                                      ballistic, particle_params_, scene_.seed, step, raw(pos_), raw(vel_), raw(id_),
+                                      raw(source_)});
+        next_id_ += emitted;
+      }
+    }
+    {
+      ScopedPhase p(times, step, "particles.move");
+      keep_.resize(pos_.size());
+      launch(pos_.size(), MoveParticles{raw(id_), raw(source_), raw(cues_), particle_params_, ballistic, scene_.seed,
+                                        step, raw(pos_), raw(vel_), raw(keep_)});
+    }
+    {
+      ScopedPhase p(times, step, "particles.compact");
+      compact_particles(ballistic);
+    }
+    {
+      ScopedPhase p(times, step, "particles.grid");
+      build_particle_grid();
+    }
+    if (particle_params_.collisions) {
+      ScopedPhase p(times, step, "particles.collide");
+      launch(pos_.size(), Collide{particle_view(), particle_params_, ballistic, raw(pos_), raw(vel_)});
+      build_particle_grid();
+    }
+  }
+
+  void compact_particles(bool ballistic) {
+    const std::size_t n = pos_.size();
+    const std::size_t kept = static_cast<std::size_t>(thrust::count_if(thrust::device, keep_.begin(), keep_.end(), IsKept{}));
+    if (kept == n) return;
+    auto compact = [&](auto& v, auto& scratch) {
+      scratch.resize(kept);
+      thrust::copy_if(thrust::device, v.begin(), v.end(), keep_.begin(), scratch.begin(), IsKept{});
+      v.swap(scratch);
+    };
+    compact(pos_, pos_scratch_);
+    compact(id_, id_scratch_);
+    compact(source_, source_scratch_);
+    if (ballistic) compact(vel_, vel_scratch_);
+  }
+
+  void build_particle_grid() {
+    const std::size_t n = pos_.size();
+    particle_keys_.resize(n);
+    particle_index_.resize(n);
+    const core::HashGridView geometry{hash_.origin, hash_.cell, hash_.dim, nullptr, nullptr, nullptr, nullptr};
+    launch(n, ParticleKeys{raw(pos_), geometry, raw(particle_keys_), raw(particle_index_)});
+    sort_and_find_starts(particle_keys_, particle_index_, static_cast<std::uint32_t>(hash_.buckets()), particle_start_);
+    sorted_pos_.resize(n);
+    sorted_source_.resize(n);
+    launch(n, GatherParticles{raw(pos_), raw(source_), raw(particle_index_), raw(sorted_pos_), raw(sorted_source_)});
+  }
+
+  double* grid_values(std::size_t k, int buffer) { return raw(grid_[buffer]) + k * grid_geometry_.nodes(); }
+
+  void deposit(std::size_t k, std::uint32_t step, double fraction) {
+    const double total = scene_.cues.particles.amount * core::emitted_at(cues_host_[k].emission, step) * fraction;
+    if (total == 0.0) return;
+    launch(1, Deposit{grid_values(k, cur_[k]),
+                      core::source_deposit(cues_host_[k].position, total, grid_geometry_.origin, grid_geometry_.h,
+                                           grid_geometry_.n)});
+  }
+
+  void explicit_step(std::size_t k, std::uint32_t step) {
+    const std::uint32_t m = substeps_[k];
+    const core::StencilParams s =
+        stencil_params(grid_geometry_, cues_host_[k], scene_.dt / m, scene_.cues.grid.boundary == GridBoundary::kReflecting);
+    for (std::uint32_t sub = 0; sub < m; ++sub) {
+      deposit(k, step, 1.0 / m);
+      launch(grid_geometry_.nodes(), Ftcs{grid_values(k, cur_[k]), grid_values(k, 1 - cur_[k]), s});
+      cur_[k] = 1 - cur_[k];
+    }
+  }
+
+  void implicit_step(std::size_t k, std::uint32_t step) {
+    deposit(k, step, 1.0);
+    const bool reflecting = scene_.cues.grid.boundary == GridBoundary::kReflecting;
+    const core::StencilParams s = stencil_params(grid_geometry_, cues_host_[k], scene_.dt, reflecting);
+    const std::size_t lines = static_cast<std::size_t>(grid_geometry_.n) * grid_geometry_.n;
+    for (int axis = 0; axis < 3; ++axis)
+      launch(lines, LodLines{grid_values(k, 0), raw(lod_cp_), raw(lod_dp_), grid_geometry_.n, axis, s.lambda, reflecting});
+    launch(grid_geometry_.nodes(), Scale{grid_values(k, 0), 1.0 / (1.0 + s.decay_dt)});
+  }
+
+  const Scene& scene_;
+  core::GrowthParams growth_;
+  std::vector<core::CueParams> cues_host_;
+  core::SenseParams sense_;
+  core::SteerParams steer_;
+  core::ParticleParams particle_params_;
+  HashGeometry hash_;
+  GridGeometry3 grid_geometry_;
+  GridGeometry soma_geometry_;
+  // Somas (sorted grid) and axons in slot order (slot k = neuron ids_[k]).
+  dvec<std::uint32_t> ids_, soma_start_;
+  dvec<Vec3> soma_pos_, tip_, heading_;
+  dvec<double> length_;
+  dvec<core::AxonStatus> status_;
+  dvec<std::uint32_t> steps_, target_, target_by_id_, active_, active_next_;
+  StepStats stats_;
+  // Cues.
+  dvec<core::CueParams> cues_;
+  std::uint64_t next_id_ = 0;
+  dvec<Vec3> pos_, vel_, sorted_pos_, pos_scratch_, vel_scratch_;
+  dvec<std::uint64_t> id_, id_scratch_;
+  dvec<std::uint16_t> source_, sorted_source_, source_scratch_;
+  dvec<std::uint8_t> keep_;
+  dvec<std::uint32_t> particle_keys_, particle_index_, particle_start_;
+  dvec<double> grid_[2], lod_cp_, lod_dp_;
+  std::vector<int> cur_;
+  std::vector<std::uint32_t> substeps_;
+};
+
+std::unique_ptr<Engine> make_engine(const Scene& scene, const Placement& placement) {
+  return std::make_unique<AccelEngine>(scene, placement);
+}
+
+BfsResult bfs_level_sync(const Csr& g, const std::vector<std::uint32_t>& sources) {
+  return bfs_level_sync_device(DeviceCsr(g), sources);
+}
+
+BfsResult bfs_queue(const Csr& g, const std::vector<std::uint32_t>& sources) {
+  return bfs_queue_device(DeviceCsr(g), sources);
+}
+
+std::vector<std::uint32_t> components(const Csr& g) {
+  dvec<std::uint32_t> source, target;
+  device_edges(g, source, target);
+  return components_device(source, target, g.vertices());
+}
+
+}  // namespace axg::accel::AXG_ACCEL_NS

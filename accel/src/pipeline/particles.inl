@@ -1,0 +1,93 @@
+// The particle-field kernels: emission, motion and death, hashing, sorted copies,
+// soft-sphere collisions.
+// Part of the pipeline (../pipeline.inl); compiled once per build of it.
+#pragma once
+
+namespace axg::accel::AXG_ACCEL_NS {
+
+struct EmitParticles {
+  std::uint64_t first_id;
+  std::size_t first_slot;
+  const std::uint32_t* d_offsets;  // per cue: first new particle of the cue, then the total
+  int cue_count;
+  const core::CueParams* d_cues;
+  bool ballistic;
+  core::ParticleParams params;
+  std::uint64_t seed;
+  std::uint32_t step;
+  Vec3* d_pos;
+  Vec3* d_vel;
+  std::uint64_t* d_id;
+  std::uint16_t* d_source;
+  AXG_HD void operator()(std::size_t e) const {
+    int k = 0;
+    while (k + 1 < cue_count && d_offsets[k + 1] <= e) ++k;
+    const std::uint64_t id = first_id + e;
+    const std::size_t i = first_slot + e;
+    d_pos[i] = d_cues[k].position;
+    d_id[i] = id;
+    d_source[i] = static_cast<std::uint16_t>(k);
+    if (ballistic) d_vel[i] = core::birth_velocity(seed, id, step, params);
+  }
+};
+
+struct MoveParticles {
+  const std::uint64_t* d_id;
+  const std::uint16_t* d_source;
+  const core::CueParams* d_cues;
+  core::ParticleParams params;
+  bool ballistic;
+  std::uint64_t seed;
+  std::uint32_t step;
+  Vec3* d_pos;
+  Vec3* d_vel;
+  std::uint8_t* d_keep;
+  AXG_HD void operator()(std::size_t i) const {
+    Vec3 v = ballistic ? d_vel[i] : Vec3{0.0, 0.0, 0.0};
+    d_keep[i] = core::particle_step(seed, d_id[i], step, d_pos[i], v, d_cues[d_source[i]], params) ? 1 : 0;
+    if (ballistic) d_vel[i] = v;
+  }
+};
+
+struct ParticleKeys {
+  const Vec3* d_pos;
+  core::HashGridView geometry;
+  std::uint32_t* d_keys;
+  std::uint32_t* d_index;
+  AXG_HD void operator()(std::size_t i) const {
+    d_keys[i] = core::hash_of(d_pos[i], geometry);
+    d_index[i] = static_cast<std::uint32_t>(i);
+  }
+};
+
+struct GatherParticles {
+  const Vec3* d_pos;
+  const std::uint16_t* d_source;
+  const std::uint32_t* d_index;
+  Vec3* d_sorted_pos;
+  std::uint16_t* d_sorted_source;
+  AXG_HD void operator()(std::size_t k) const {
+    d_sorted_pos[k] = d_pos[d_index[k]];
+    d_sorted_source[k] = d_source[d_index[k]];
+  }
+};
+
+struct Collide {
+  core::HashGridView grid;
+  core::ParticleParams params;
+  bool ballistic;
+  Vec3* d_pos;
+  Vec3* d_vel;
+  AXG_HD void operator()(std::size_t k) const {
+    const std::uint32_t i = grid.index[k];
+    const Vec3 push = core::collision_push(i, grid.pos[k], grid, params);
+    d_pos[i] = grid.pos[k] + push;
+    if (ballistic) d_vel[i] = d_vel[i] + push / params.dt;
+  }
+};
+
+struct IsKept {
+  AXG_HD bool operator()(std::uint8_t k) const { return k != 0; }
+};
+
+}  // namespace axg::accel::AXG_ACCEL_NS

@@ -121,7 +121,7 @@ double mean_turn_toward(FieldKind field, CueKind kind, GuidanceModel model) {
     core::CueSample samples[core::kMaxCues];
     core::Vec3 pull[core::kMaxCues];
     f->sample(tip, samples, pull);
-    const core::Vec3 out = core::steer_axon(h, samples, pull, cues.data(), 1, sp, st, s.seed, static_cast<std::uint32_t>(i), 61);
+    const core::Vec3 out = core::steer_axon(h, samples, pull, cues.data(), 1, sp, st, s.seed, static_cast<std::uint32_t>(i), 61).heading;
     const core::Vec3 u = core::normalized(-1.0 * tip);
     total += core::dot(out, u) - core::dot(h, u);
   }

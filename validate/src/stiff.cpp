@@ -9,6 +9,7 @@
 
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/core/steering.hpp"
+#include "axonguide/core/wander.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/fields.hpp"
@@ -137,29 +138,47 @@ void validate_stiff(const Options& o, Report& r) {
 
   // Steering extremes.
   {
-    core::SteerParams p{};
-    p.model = core::GuidanceModel::kSnr;
-    p.cos_turn = std::cos(0.10471975511965977);
-    p.sin_turn = std::sin(0.10471975511965977);
-    p.gain = 250;
     bool ok = true;
-    for (double gamma : {0.0, 1e-300, 1e-10, 0.5, 1.0, 1e10, 1e300, DBL_MAX}) {
-      ok = ok && std::isfinite(core::snr_occupancy(gamma));
-      const core::Detection d{true, gamma, 1.0, {1, 0, 0}};
-      ok = ok && unit_and_finite(core::snr_turn({0, 0, 1}, d, p, 1, 2, 0, 3));
+    for (core::NoiseForm noise : {core::NoiseForm::kBinding, core::NoiseForm::kSnapshot}) {
+      const core::SteerParams p = default_snr_params(noise);
+      for (double gamma : {0.0, 1e-300, 1e-10, 0.5, 1.0, 1e10, 1e300, DBL_MAX, HUGE_VAL}) {
+        ok = ok && std::isfinite(core::receptor_noise(gamma, noise));
+        for (double mu : {1e-300, 1.0, 1e300})
+          ok = ok && unit_and_finite(one_cue_decision({0, 0, 1}, gamma, mu, {1, 0, 0}, p, 1, 2, 3).heading);
+      }
     }
-    r.check({"SNR steering for gamma = 0 ... DBL_MAX", ok, ok ? "finite unit headings" : "non-finite", "finite unit", ""});
+    r.check({"SNR steering for gamma = 0 ... inf, mu = 1e-300 ... 1e300, both noise forms", ok,
+             ok ? "finite unit headings" : "non-finite", "finite unit", ""});
     bool par = true;
+    const core::SteerParams p = default_snr_params(core::NoiseForm::kBinding);
     for (Vec3 g : {Vec3{0, 0, 1}, Vec3{0, 0, -1}})
       for (std::uint32_t n = 0; n < 1000; ++n)
-        par = par && unit_and_finite(core::snr_turn({0, 0, 1}, {true, 0.5, 1.0, g}, p, 1, n, 0, 1));
+        par = par && unit_and_finite(one_cue_decision({0, 0, 1}, 0.5, 1.0, g, p, 1, n, 1).heading);
     r.check({"heading parallel and antiparallel to the gradient", par, par ? "finite unit headings (2000 decisions)" : "non-finite",
              "finite unit", ""});
-    core::SenseParams sp{};
-    sp.cone_width = 0.1;
     const core::CueParams cue{{0, 0, 0}, 1, 1, 1, 1, 1, 0, 1e300, 1, 1, 1, 1};
-    const bool zero = !core::detect({1.0, {0, 0, 0}}, cue, sp).detected && !core::detect({0.0, {1, 0, 0}}, cue, sp).detected;
+    const bool zero = !core::detected(core::exact_sample(1.0, {0, 0, 0}), cue) &&
+                      !core::detected(core::exact_sample(0.0, {1, 0, 0}), cue);
     r.check({"zero gradient or zero concentration: cue not detected", zero, zero ? "ignored" : "detected", "ignored", ""});
+    // Wandering and growth-rate modulation at the extremes of their parameters.
+    bool wander_ok = true;
+    for (double lp : {1e-300, 1e-6, 1.0, 1e6, 1e300})
+      for (double l : {1e-300, 0.35, 1e300}) {
+        core::WanderParams w{true, 1.0 / lp, 0.0, 0.0};
+        wander_ok = wander_ok && unit_and_finite(core::wander({0, 0, 1}, l, false, w, 1, 2, 3));
+      }
+    r.check({"wandering for L_p = 1e-300 ... 1e300 and l = 1e-300 ... 1e300", wander_ok,
+             wander_ok ? "finite unit headings" : "non-finite", "finite unit", ""});
+    bool mod_ok = true;
+    core::SteerParams pm = p;
+    for (double m : {0.0, 0.5, 0.999999})
+      for (double z : {-HUGE_VAL, -1e300, -1.0, 0.0, 1.0, 1e300}) {
+        pm.modulation = m;
+        const double l = core::modulated_step(0.35, z, pm);
+        mod_ok = mod_ok && std::isfinite(l) && l >= 0.0 && l <= 0.35 * (1 + m);
+      }
+    r.check({"growth-rate modulation for m = 0 ... 0.999999 and evidence -inf ... 1e300", mod_ok,
+             mod_ok ? "finite steps in [0, l0 (1 + m)]" : "out of range", "finite, within l0 (1 -+ m)", ""});
   }
 
   // Packing near the limit.

@@ -10,6 +10,7 @@ class AccelEngine final : public Engine {
   AccelEngine(const Scene& scene, const Placement& placement)
       : scene_(scene),
         growth_(growth_params(scene)),
+        wander_(wander_params(scene)),
         cues_host_(make_cues(scene)),
         sense_(sense_params(scene)),
         steer_(steer_params(scene)),
@@ -32,6 +33,7 @@ class AccelEngine final : public Engine {
     active_.resize(n);
     thrust::sequence(active_.begin(), active_.end());
     active_next_.resize(n);
+    if (modulates_growth(scene)) step_length_.assign(n, growth_.step_length);
     if (scene.uses_cues()) init_field();
   }
 
@@ -39,12 +41,13 @@ class AccelEngine final : public Engine {
     if (scene_.uses_cues()) {
       advance_field(step, times);
       ScopedPhase p(times, step, "steer");
-      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), fields(), steer_, scene_.seed, step});
+      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(), growth_.step_length,
+                                   fields(), steer_, scene_.seed, step});
     }
     {
       ScopedPhase p(times, step, "grow");
-      launch(active_.size(), Grow{raw(active_), raw(ids_), growth_, somas_view(), step, raw(tip_), raw(heading_),
-                                  raw(length_), raw(status_), raw(steps_), raw(target_)});
+      launch(active_.size(), Grow{raw(active_), raw(ids_), growth_, wander_, step_lengths(), scene_.seed, somas_view(),
+                                  step, raw(tip_), raw(heading_), raw(length_), raw(status_), raw(steps_), raw(target_)});
     }
     {
       ScopedPhase p(times, step, "compact");
@@ -129,7 +132,7 @@ class AccelEngine final : public Engine {
 
   std::size_t bytes() const override {
     const std::size_t n = tip_.size();
-    return n * (4 + 24 + 24 + 24 + 8 + 1 + 4 + 4 + 4 + 4) + soma_start_.size() * 4 +
+    return n * (4 + 24 + 24 + 24 + 8 + 1 + 4 + 4 + 4 + 4) + step_length_.size() * 8 + soma_start_.size() * 4 +
            pos_.capacity() * (24 + 8 + 2 + 1) + vel_.capacity() * 24 + grid_[0].size() * 8 + grid_[1].size() * 8;
   }
 
@@ -156,6 +159,8 @@ class AccelEngine final : public Engine {
     soma_pos_.resize(n);
     launch(n, GatherBy<Vec3>{raw(pos), raw(ids_), raw(soma_pos_)});
   }
+
+  double* step_lengths() { return step_length_.empty() ? nullptr : raw(step_length_); }
 
   core::CellGridView somas_view() const {
     const GridGeometry& g = soma_geometry_;
@@ -215,7 +220,8 @@ class AccelEngine final : public Engine {
         }
         break;
       }
-      case FieldKind::kAnalytic: break;
+      case FieldKind::kAnalytic:
+      case FieldKind::kImposed: break;
     }
   }
 
@@ -321,6 +327,7 @@ class AccelEngine final : public Engine {
 
   const Scene& scene_;
   core::GrowthParams growth_;
+  core::WanderParams wander_;
   std::vector<core::CueParams> cues_host_;
   core::SenseParams sense_;
   core::SteerParams steer_;
@@ -331,7 +338,7 @@ class AccelEngine final : public Engine {
   // Somas (sorted grid) and axons in slot order (slot k = neuron ids_[k]).
   dvec<std::uint32_t> ids_, soma_start_;
   dvec<Vec3> soma_pos_, tip_, heading_;
-  dvec<double> length_;
+  dvec<double> length_, step_length_;
   dvec<core::AxonStatus> status_;
   dvec<std::uint32_t> steps_, target_, target_by_id_, active_, active_next_;
   StepStats stats_;

@@ -32,6 +32,8 @@ struct Steer {
   const std::uint32_t* d_ids;
   const Vec3* d_tip;
   Vec3* d_heading;
+  double* d_step_length;  // null unless growth-rate modulation is on
+  double step_length;     // l0
   CueFields fields;
   core::SteerParams params;
   std::uint64_t seed;
@@ -51,9 +53,14 @@ struct Steer {
       case core::FieldKind::kAnalytic:
         core::sample_analytic_field(x, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
         break;
+      case core::FieldKind::kImposed:
+        core::sample_imposed_field(x, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
+        break;
     }
-    d_heading[k] = core::steer_axon(d_heading[k], samples, pull, fields.d_cues, fields.cue_count, fields.sense, params,
-                                    seed, d_ids[k], step);
+    const core::Steered s = core::steer_axon(d_heading[k], samples, pull, fields.d_cues, fields.cue_count, fields.sense,
+                                             params, seed, d_ids[k], step);
+    d_heading[k] = s.heading;
+    if (d_step_length) d_step_length[k] = core::modulated_step(step_length, s.along, params);
   }
 };
 
@@ -61,17 +68,24 @@ struct Grow {
   const std::uint32_t* d_active;
   const std::uint32_t* d_ids;
   core::GrowthParams params;
+  core::WanderParams wander;
+  const double* d_step_length;  // null unless growth-rate modulation is on
+  std::uint64_t seed;
   core::CellGridView somas;
   std::uint32_t step;
   Vec3* d_tip;
-  const Vec3* d_heading;
+  Vec3* d_heading;
   double* d_length;
   core::AxonStatus* d_status;
   std::uint32_t* d_steps;
   std::uint32_t* d_target;
   AXG_HD void operator()(std::size_t a) const {
     const std::uint32_t k = d_active[a];
-    const core::AxonStep s = core::grow_axon(d_ids[k], d_tip[k], d_heading[k], params, somas);
+    const std::uint32_t id = d_ids[k];
+    const double l = d_step_length ? d_step_length[k] : params.step_length;
+    const Vec3 h = core::wander(d_heading[k], l, d_step_length == nullptr, wander, seed, id, step);
+    d_heading[k] = h;
+    const core::AxonStep s = core::grow_axon(id, d_tip[k], h, l, params, somas);
     d_tip[k] = s.tip;
     d_length[k] = d_length[k] + s.advanced;
     d_steps[k] = step;

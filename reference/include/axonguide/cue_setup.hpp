@@ -13,8 +13,11 @@
 
 namespace axg {
 
-// Every cue in index order: the scene's sources, then the random ones.
+// Every cue in index order: the scene's sources (in their canonical order), then the
+// random ones. Throws InputError for an imposed linear profile that would go negative
+// inside the domain.
 std::vector<core::CueParams> make_cues(const Scene& scene);
+void check_imposed_field(const Scene& scene, const std::vector<core::CueParams>& cues);
 
 core::SenseParams sense_params(const Scene& scene);
 core::SteerParams steer_params(const Scene& scene);

@@ -2,7 +2,11 @@
 // Scene-derived parameters of the growth stage, shared by every backend so that both
 // hand identical numbers to core::grow_axon.
 #include "axonguide/cell_grid.hpp"
+#include <cmath>
+
 #include "axonguide/core/growth.hpp"
+#include "axonguide/core/pmath.hpp"
+#include "axonguide/core/wander.hpp"
 #include "axonguide/scene.hpp"
 
 namespace axg {
@@ -17,6 +21,19 @@ inline core::GrowthParams growth_params(const Scene& s) {
   g.rule = s.axons.contact;
   return g;
 }
+
+inline core::WanderParams wander_params(const Scene& s) {
+  core::WanderParams w{};
+  w.on = s.axons.persistence_length.has_value();
+  if (!w.on) return w;
+  w.inv_persistence = 1.0 / *s.axons.persistence_length;
+  w.cos_step = core::pm::exp(-s.axons.step_length * w.inv_persistence);
+  w.sin_step = std::sqrt(1.0 - w.cos_step * w.cos_step);
+  return w;
+}
+
+// Growth-rate modulation gives every axon its own step length (stored per axon).
+inline bool modulates_growth(const Scene& s) { return s.axons.growth_modulation > 0.0 && s.uses_cues(); }
 
 inline core::Vec3 axon_start(core::Vec3 soma, core::Vec3 heading, const Scene& s) {
   return core::axon_start(soma, heading, s.neurons.soma_radius);

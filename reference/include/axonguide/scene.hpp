@@ -21,9 +21,30 @@ using core::FieldKind;
 using core::GridBoundary;
 using core::GridScheme;
 using core::GuidanceModel;
+using core::ImposedProfile;
 using core::Motion;
+using core::NoiseForm;
+using core::ParticleSensing;
 using core::RegionShape;
 using core::Sampler;
+
+// Physical units a scene may declare (SPEC §3.3). They name what the numbers mean; the
+// model is the same in any consistent set. Without them: length units (LU), steps, and
+// concentration units (CU: amount per LU^3).
+struct Units {
+  std::string length = "LU";         // "LU" or "um"
+  std::string time = "step";         // "step", "s", "min" or "h"
+  std::string concentration = "CU";  // "CU", "pM", "nM" or "uM"
+  bool declared() const { return length != "LU" || time != "step" || concentration != "CU"; }
+  // "length um, time min, concentration nM"
+  std::string describe() const;
+};
+
+// Katz 1985 (J Neurosci 5:589): axons in culture hold a nearly constant orientation over
+// hundreds of micrometres. Default persistence length in um, and in LU with the report's
+// soma radius 0.25 LU read as 10 um (1 LU = 40 um).
+inline constexpr double kDefaultPersistenceUm = 250.0;
+inline constexpr double kMicrometresPerLu = 40.0;
 
 struct Source {
   CueKind kind = CueKind::kAttractant;
@@ -48,7 +69,8 @@ struct RandomSources {
 struct Scene {
   std::uint64_t seed = 1;
   std::uint32_t steps = 100;
-  double dt = 1.0;
+  double dt = 1.0;  // time units per step
+  Units units;
 
   struct Neurons {
     std::uint64_t count = 1000;
@@ -61,14 +83,19 @@ struct Scene {
   } neurons;
 
   struct Axons {
-    double step_length = 0.35;
+    double step_length = 0.35;           // length units per step (growth_speed dt when that is given)
+    std::optional<double> growth_speed;  // length units per time unit; nullopt: step_length rules
     double contact_distance = 0.05;
     ContactRule contact = ContactRule::kSwept;
     std::optional<double> bounds_radius;  // nullopt: the region's radius
+    // L_p of the heading's random walk, length units; nullopt: no wandering.
+    std::optional<double> persistence_length = kDefaultPersistenceUm / kMicrometresPerLu;
+    double growth_modulation = 0.0;  // m in [0, 1): step length l0 (1 + m z / (1 + |z|)); 0: off
   } axons;
 
   struct Guidance {
     GuidanceModel model = GuidanceModel::kSnr;
+    NoiseForm noise = NoiseForm::kBinding;
     double turn_angle = 0.10471975511965977;  // pi/30
     double gain = 250;                         // alpha
     double vector_weight = 0.1;                // beta
@@ -81,7 +108,8 @@ struct Scene {
     std::vector<Source> sources;
     RandomSources random_sources;
     struct Particles {
-      double amount = 0.01;  // concentration units x LU^3 carried by one particle
+      double amount = 0.01;  // concentration units x length^3 carried by one particle
+      ParticleSensing sensing = ParticleSensing::kSplit;
       Motion motion = Motion::kBrownian;
       bool collisions = false;
       double speed = 0.0;      // ballistic: initial speed, LU/step (0: sqrt(6 D / dt))
@@ -95,6 +123,13 @@ struct Scene {
       GridBoundary boundary = GridBoundary::kAbsorbing;
       bool allow_substeps = true;  // explicit: sub-step to the stability limit, or refuse
     } grid;
+    struct Imposed {
+      ImposedProfile profile = ImposedProfile::kExponential;
+      core::Vec3 direction{1.0, 0.0, 0.0};  // up the gradient (normalised when read)
+      double steepness = 0.2;                // percent change per reference_length
+      double reference_length = 10.0;        // length units
+      double concentration = 1.0;            // at each source's position, concentration units
+    } imposed;
   } cues;
 
   struct Analysis {
@@ -134,7 +169,14 @@ ParseResult load_scene_file(const std::string& path);
 // output.vtk draws axon paths, so it turns output.paths on (with a warning).
 void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warnings);
 
-// The canonical form: every key, defaults filled in, keys sorted.
+// The canonical cue order (SPEC §3.5): sources sorted by (kind, position given, x, y, z,
+// emission, diffusion, decay, K_d, window), so that a scene listing the same sources in
+// another order is the same scene, byte for byte (particle ids, random streams and the
+// evidence sum all follow the cue index). The parser, the canonical form and make_cues
+// all use it.
+std::vector<Source> canonical_sources(std::vector<Source> sources);
+
+// The canonical form: every key, defaults filled in, keys sorted, sources in canonical order.
 nlohmann::json scene_to_json(const Scene& scene);
 
 // Names of enumerations as written in scenes.
@@ -147,6 +189,9 @@ const char* name_of(CueKind v);
 const char* name_of(Motion v);
 const char* name_of(GridScheme v);
 const char* name_of(GridBoundary v);
+const char* name_of(NoiseForm v);
+const char* name_of(ParticleSensing v);
+const char* name_of(ImposedProfile v);
 const char* name_of(core::AxonStatus v);
 
 }  // namespace axg

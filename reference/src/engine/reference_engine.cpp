@@ -42,6 +42,8 @@ class ReferenceEngine final : public Engine {
   ReferenceEngine(const Scene& scene, const Placement& placement)
       : scene_(scene),
         params_(growth_params(scene)),
+        wander_(wander_params(scene)),
+        modulated_(modulates_growth(scene)),
         cues_(make_cues(scene)),
         field_(make_reference_field(scene, cues_)),
         sense_(sense_params(scene)),
@@ -57,6 +59,7 @@ class ReferenceEngine final : public Engine {
     });
     active_.resize(n);
     for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
+    if (modulated_) step_length_.assign(n, params_.step_length);
   }
 
   // The pipeline of SPEC §3.2: (1) cue fields advance, (2) sense and steer, (3) move,
@@ -96,6 +99,7 @@ class ReferenceEngine final : public Engine {
     for (std::uint32_t k : active_) state_.status[k] = AxonStatus::kMaxSteps;
     release(active_);
     release(heading_);
+    release(step_length_);
     const std::vector<std::uint32_t>& ids = somas_.ids;
     scatter(ids, state_.tip, out.tip);
     scatter(ids, state_.length, out.length);
@@ -107,12 +111,13 @@ class ReferenceEngine final : public Engine {
   std::string note() const override { return field_ ? field_->note() : std::string(); }
 
   std::size_t bytes() const override {
-    return (field_ ? field_->bytes() : 0) + somas_.bytes() + active_.capacity() * 4 + heading_.capacity() * sizeof(core::Vec3) +
+    return (field_ ? field_->bytes() : 0) + somas_.bytes() + active_.capacity() * 4 + heading_.capacity() * sizeof(core::Vec3) + step_length_.capacity() * 8 +
            state_.size() * (sizeof(core::Vec3) + 8 + 1 + 4 + 4);
   }
 
  private:
-  // Stage 2: every growing axon samples every cue at its tip and turns.
+  // Stage 2: every growing axon samples every cue at its tip and makes its one turn (and,
+  // with growth-rate modulation, sets its step length).
   void steer(std::uint32_t step) {
     const int cue_count = static_cast<int>(cues_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active_.size()), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -121,13 +126,16 @@ class ReferenceEngine final : public Engine {
       for (std::size_t a = r.begin(); a != r.end(); ++a) {
         const std::uint32_t k = active_[a];
         field_->sample(state_.tip[k], samples, pull);
-        heading_[k] = core::steer_axon(heading_[k], samples, pull, cues_.data(), cue_count, sense_, steer_,
-                                       scene_.seed, somas_.ids[k], step);
+        const core::Steered s = core::steer_axon(heading_[k], samples, pull, cues_.data(), cue_count, sense_, steer_,
+                                                 scene_.seed, somas_.ids[k], step);
+        heading_[k] = s.heading;
+        if (modulated_) step_length_[k] = core::modulated_step(params_.step_length, s.along, steer_);
       }
     });
   }
 
-  // Stages 3-4: move every growing tip and test contact and bounds.
+  // Stages 3-4: the heading's random walk, then move every growing tip and test contact
+  // and bounds.
   void grow(std::uint32_t step) {
     const core::CellGridView somas = somas_.view();
     struct Counts {
@@ -138,7 +146,10 @@ class ReferenceEngine final : public Engine {
         [&](const tbb::blocked_range<std::size_t>& r, Counts acc) {
           for (std::size_t a = r.begin(); a != r.end(); ++a) {
             const std::uint32_t k = active_[a];
-            const core::AxonStep s = core::grow_axon(somas_.ids[k], state_.tip[k], heading_[k], params_, somas);
+            const std::uint32_t id = somas_.ids[k];
+            const double l = modulated_ ? step_length_[k] : params_.step_length;
+            heading_[k] = core::wander(heading_[k], l, !modulated_, wander_, scene_.seed, id, step);
+            const core::AxonStep s = core::grow_axon(id, state_.tip[k], heading_[k], l, params_, somas);
             state_.tip[k] = s.tip;
             state_.length[k] += s.advanced;
             state_.steps[k] = step;
@@ -163,6 +174,8 @@ class ReferenceEngine final : public Engine {
 
   const Scene& scene_;
   core::GrowthParams params_;
+  core::WanderParams wander_;
+  bool modulated_;
   std::vector<core::CueParams> cues_;
   std::unique_ptr<CueField> field_;  // null for direct guidance: no cue work at all
   core::SenseParams sense_;
@@ -170,6 +183,7 @@ class ReferenceEngine final : public Engine {
   CellGrid somas_;
   NeuronState state_;  // in slot order
   std::vector<core::Vec3> heading_;
+  std::vector<double> step_length_;  // per slot, with growth-rate modulation only
   std::vector<std::uint32_t> active_;
   StepStats stats_;
 };

@@ -116,13 +116,14 @@ class GridField final : public CueField {
   std::vector<std::uint32_t> substeps_;
 };
 
-class AnalyticField final : public CueField {
+// The analytic steady state and the imposed gradients: exact values, no state.
+template <auto SampleField>
+class ExactField final : public CueField {
  public:
-  AnalyticField(const Scene& scene, const std::vector<core::CueParams>& cues)
-      : cues_(cues), sense_(sense_params(scene)) {}
+  ExactField(const Scene& scene, const std::vector<core::CueParams>& cues) : cues_(cues), sense_(sense_params(scene)) {}
   void advance(std::uint32_t, PhaseTimes&) override {}
   void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
-    core::sample_analytic_field(x, cues_.data(), static_cast<int>(cues_.size()), sense_, samples, pull);
+    SampleField(x, cues_.data(), static_cast<int>(cues_.size()), sense_, samples, pull);
   }
   std::size_t bytes() const override { return 0; }
 
@@ -139,7 +140,8 @@ std::unique_ptr<CueField> make_reference_field(const Scene& scene, const std::ve
   if (!scene.uses_cues()) return nullptr;
   switch (scene.cues.field) {
     case FieldKind::kParticles: return make_particle_field(scene, cues);
-    case FieldKind::kAnalytic: return std::make_unique<AnalyticField>(scene, cues);
+    case FieldKind::kAnalytic: return std::make_unique<ExactField<core::sample_analytic_field>>(scene, cues);
+    case FieldKind::kImposed: return std::make_unique<ExactField<core::sample_imposed_field>>(scene, cues);
     case FieldKind::kGrid:
       check_grid_field(scene, cues);
       return std::make_unique<GridField>(scene, cues);

@@ -45,7 +45,7 @@ std::vector<core::CueParams> make_cues(const Scene& scene) {
   std::vector<core::CueParams> cues;
   if (!scene.uses_cues()) return cues;
   std::uint64_t index = 0;
-  for (const Source& s : scene.cues.sources) {
+  for (const Source& s : canonical_sources(scene.cues.sources)) {
     cues.push_back(cue_from(s, s.position ? *s.position : sample_source_position(scene, index), scene));
     ++index;
   }
@@ -60,7 +60,28 @@ std::vector<core::CueParams> make_cues(const Scene& scene) {
     s.kd = r.kd;
     cues.push_back(cue_from(s, sample_source_position(scene, index), scene));
   }
+  if (scene.cues.field == FieldKind::kImposed) check_imposed_field(scene, cues);
   return cues;
+}
+
+void check_imposed_field(const Scene& scene, const std::vector<core::CueParams>& cues) {
+  const auto& q = scene.cues.imposed;
+  if (q.profile != ImposedProfile::kLinear) return;
+  const double rate = q.steepness / 100.0 / q.reference_length;
+  const double rb = scene.bounds_radius();
+  const core::Vec3 d = q.direction;
+  // The lowest value of (x - p).d over the domain: -R_b |d|_1 - p.d (box) or -R_b - p.d (ball).
+  const double reach = scene.neurons.shape == RegionShape::kBox ? rb * (std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z)) : rb;
+  for (std::size_t k = 0; k < cues.size(); ++k) {
+    const double t_min = -reach - core::dot(cues[k].position, d);
+    const double c_min = 1.0 + rate * t_min;
+    if (c_min < 0.0)
+      throw InputError(fmt::format(
+          "scene: cues.imposed.steepness = {}: the linear profile of cue {} (C = {} at [{}, {}, {}]) falls to {:.4g} x "
+          "that value {} length units down the gradient, inside the domain; a concentration cannot be negative: use a "
+          "smaller steepness, a longer cues.imposed.reference_length, or the \"exponential\" profile",
+          q.steepness, k, q.concentration, cues[k].position.x, cues[k].position.y, cues[k].position.z, c_min, -t_min));
+  }
 }
 
 core::SenseParams sense_params(const Scene& scene) {
@@ -68,13 +89,26 @@ core::SenseParams sense_params(const Scene& scene) {
   const double r = scene.guidance.sensing_radius;
   const double volume = 4.0 / 3.0 * 3.141592653589793 * r * r * r;
   p.field = scene.cues.field;
+  p.sensing = scene.cues.particles.sensing;
   p.amount = scene.cues.particles.amount;
   p.radius = r;
   p.radius2 = r * r;
+  p.inv_radius = 1.0 / r;
   p.c_per_particle = p.amount / volume;
-  p.grad_scale = 5.0 * p.amount / (volume * r * r);
+  p.half_grad_scale = 10.0 * p.amount / (volume * r * r);
   p.cone_width = scene.guidance.growth_cone_width;
   p.analytic_rmin = 1e-3;
+  switch (scene.guidance.model) {
+    case GuidanceModel::kVectorSum: p.pull = core::Pull::kSensed; break;
+    case GuidanceModel::kSourceVectorSum: p.pull = core::Pull::kSource; break;
+    default: p.pull = core::Pull::kNone; break;
+  }
+  const auto& q = scene.cues.imposed;
+  p.imposed.profile = q.profile;
+  p.imposed.direction = q.direction;
+  p.imposed.c0 = q.concentration;
+  const double s = q.steepness / 100.0;
+  p.imposed.rate = q.profile == ImposedProfile::kLinear ? s / q.reference_length : core::pm::log(1.0 + s) / q.reference_length;
   return p;
 }
 
@@ -87,6 +121,9 @@ core::SteerParams steer_params(const Scene& scene) {
   p.sin_turn = s;
   p.gain = scene.guidance.gain;
   p.vector_weight = scene.guidance.vector_weight;
+  p.noise = scene.guidance.noise;
+  p.count_decision = scene.cues.field == FieldKind::kParticles && scene.cues.particles.sensing == ParticleSensing::kCount;
+  p.modulation = scene.axons.growth_modulation;
   return p;
 }
 
@@ -202,7 +239,8 @@ std::uint64_t estimate_cue_bytes(const Scene& scene) {
   if (!scene.uses_cues()) return 0;
   const double cues = static_cast<double>(scene.source_count());
   switch (scene.cues.field) {
-    case FieldKind::kAnalytic: return 0;
+    case FieldKind::kAnalytic:
+    case FieldKind::kImposed: return 0;
     case FieldKind::kGrid: {
       const GridGeometry3 g = grid_field_geometry(scene);
       const double buffers = scene.cues.grid.scheme == GridScheme::kExplicit ? 2.0 : 1.0;

@@ -8,12 +8,15 @@
 #include <fstream>
 #include <initializer_list>
 #include <set>
+#include <algorithm>
+#include <tuple>
 #include <sstream>
 #include <utility>
 
 #include <fmt/format.h>
 
 #include "axonguide/core/cues.hpp"
+#include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
 
 namespace axg {
@@ -220,6 +223,17 @@ void read_scene(const json& root, Scene& s) {
   top.integer("seed", s.seed, 0, UINT64_MAX);
   top.integer("steps", s.steps, 0, 1000000000);
   top.number("dt", s.dt, positive());
+  if (const json* j = top.take("units")) {
+    ObjectReader r(*j, "units");
+    r.choice("length", s.units.length, {{"LU", std::string("LU")}, {"um", std::string("um")}});
+    r.choice("time", s.units.time, {{"step", std::string("step")}, {"s", std::string("s")},
+                                    {"min", std::string("min")}, {"h", std::string("h")}});
+    r.choice("concentration", s.units.concentration,
+             {{"CU", std::string("CU")}, {"pM", std::string("pM")}, {"nM", std::string("nM")}, {"uM", std::string("uM")}});
+    r.finish();
+  }
+  // The default persistence length follows the declared length unit.
+  s.axons.persistence_length = s.units.length == "um" ? kDefaultPersistenceUm : kDefaultPersistenceUm / kMicrometresPerLu;
 
   if (const json* j = top.take("neurons")) {
     ObjectReader r(*j, "neurons");
@@ -243,10 +257,28 @@ void read_scene(const json& root, Scene& s) {
   if (const json* j = top.take("axons")) {
     ObjectReader r(*j, "axons");
     auto& a = s.axons;
-    r.number("step_length", a.step_length, positive());
+    std::optional<double> step_length = a.step_length;
+    r.optional_number("step_length", step_length, positive());
+    r.optional_number("growth_speed", a.growth_speed, positive());
+    if (a.growth_speed) {
+      if (r.take("step_length") && step_length)
+        throw InputError(fmt::format(
+            "scene: axons.step_length = {} and axons.growth_speed = {} are both given: give one (the step length is "
+            "growth_speed x dt)",
+            *step_length, *a.growth_speed));
+      a.step_length = *a.growth_speed * s.dt;
+      if (!(a.step_length > 0.0) || !std::isfinite(a.step_length))
+        fail("axons.growth_speed", *a.growth_speed, fmt::format("growth_speed x dt = {} must be a positive finite step length", a.step_length));
+    } else if (!step_length) {
+      fail("axons.step_length", nullptr, "must be a positive number (null only when axons.growth_speed is given)");
+    } else {
+      a.step_length = *step_length;
+    }
     r.number("contact_distance", a.contact_distance, non_negative());
     r.choice("contact", a.contact, {{"swept", ContactRule::kSwept}, {"endpoint", ContactRule::kEndpoint}});
     r.optional_number("bounds_radius", a.bounds_radius, positive());
+    r.optional_number("persistence_length", a.persistence_length, positive());
+    r.number("growth_modulation", a.growth_modulation, {0, 1, false, true});
     r.finish();
   }
 
@@ -254,7 +286,9 @@ void read_scene(const json& root, Scene& s) {
     ObjectReader r(*j, "guidance");
     auto& g = s.guidance;
     r.choice("model", g.model, {{"direct", GuidanceModel::kDirect}, {"snr", GuidanceModel::kSnr},
-                                {"vector_sum", GuidanceModel::kVectorSum}});
+                                {"vector_sum", GuidanceModel::kVectorSum},
+                                {"source_vector_sum", GuidanceModel::kSourceVectorSum}});
+    r.choice("noise", g.noise, {{"binding", NoiseForm::kBinding}, {"snapshot", NoiseForm::kSnapshot}});
     r.number("turn_angle", g.turn_angle, {0, 3.141592653589793, false, false});
     r.number("gain", g.gain, non_negative());
     r.number("vector_weight", g.vector_weight, non_negative());
@@ -267,12 +301,13 @@ void read_scene(const json& root, Scene& s) {
     ObjectReader r(*j, "cues");
     auto& c = s.cues;
     r.choice("field", c.field, {{"particles", FieldKind::kParticles}, {"grid", FieldKind::kGrid},
-                                {"analytic", FieldKind::kAnalytic}});
+                                {"analytic", FieldKind::kAnalytic}, {"imposed", FieldKind::kImposed}});
     if (const json* src = r.take("sources")) {
       if (!src->is_array()) fail("cues.sources", *src, "must be an array of source objects");
       c.sources.clear();
       for (std::size_t k = 0; k < src->size(); ++k)
         c.sources.push_back(read_source((*src)[k], fmt::format("cues.sources[{}]", k)));
+      c.sources = canonical_sources(c.sources);
     }
     if (const json* rs = r.take("random_sources")) {
       ObjectReader rr(*rs, "cues.random_sources");
@@ -286,6 +321,7 @@ void read_scene(const json& root, Scene& s) {
       ObjectReader rr(*p, "cues.particles");
       auto& q = c.particles;
       rr.number("amount", q.amount, positive());
+      rr.choice("sensing", q.sensing, {{"split", ParticleSensing::kSplit}, {"count", ParticleSensing::kCount}});
       rr.choice("motion", q.motion, {{"brownian", Motion::kBrownian}, {"ballistic", Motion::kBallistic}});
       rr.boolean("collisions", q.collisions);
       rr.number("speed", q.speed, non_negative());
@@ -302,6 +338,23 @@ void read_scene(const json& root, Scene& s) {
       rr.choice("boundary", q.boundary, {{"absorbing", GridBoundary::kAbsorbing},
                                          {"reflecting", GridBoundary::kReflecting}});
       rr.boolean("allow_substeps", q.allow_substeps);
+      rr.finish();
+    }
+    if (const json* g = r.take("imposed")) {
+      ObjectReader rr(*g, "cues.imposed");
+      auto& q = c.imposed;
+      rr.choice("profile", q.profile, {{"linear", ImposedProfile::kLinear}, {"exponential", ImposedProfile::kExponential}});
+      if (const json* d = rr.take("direction")) {
+        const core::Vec3 v = read_position(*d, "cues.imposed.direction");
+        const double n = core::norm(v);
+        if (!(n > 0.0) || !(n < HUGE_VAL)) fail("cues.imposed.direction", *d, "must be a non-zero finite vector [x, y, z]");
+        q.direction = v / n;
+      }
+      // Up to +100 % per reference length for a linear profile, and far more for an
+      // exponential one; 0 is the no-gradient control.
+      rr.number("steepness", q.steepness, closed(0, 1e6));
+      rr.number("reference_length", q.reference_length, positive());
+      rr.number("concentration", q.concentration, positive());
       rr.finish();
     }
     r.finish();
@@ -343,6 +396,11 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
       throw InputError(fmt::format(
           "scene: analysis.bfs_sources[{}] = {}: must be a neuron id below neurons.count = {}", k,
           s.analysis.bfs_sources[k], n.count));
+  if (s.axons.growth_modulation > 0.0 && s.guidance.model != GuidanceModel::kSnr)
+    throw InputError(fmt::format(
+        "scene: axons.growth_modulation = {}: growth-rate modulation responds to the SNR evidence and needs "
+        "guidance.model = \"snr\" (it is \"{}\")",
+        s.axons.growth_modulation, name_of(s.guidance.model)));
   if (s.guidance.model == GuidanceModel::kDirect) {
     if (cues_given) warnings.push_back("guidance.model is \"direct\": the cues section is ignored");
     return;
@@ -372,6 +430,16 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
 
 }  // namespace
 
+std::vector<Source> canonical_sources(std::vector<Source> sources) {
+  auto key = [](const Source& s) {
+    const core::Vec3 p = s.position.value_or(core::Vec3{0.0, 0.0, 0.0});
+    return std::make_tuple(static_cast<int>(s.kind), s.position.has_value(), p.x, p.y, p.z, s.emission, s.diffusion,
+                           s.decay, s.kd, s.min_concentration, s.max_concentration);
+  };
+  std::stable_sort(sources.begin(), sources.end(), [&](const Source& a, const Source& b) { return key(a) < key(b); });
+  return sources;
+}
+
 ParseResult parse_scene(const std::string& text, const std::string& origin) {
   check_nesting(text, origin);
   json root;
@@ -386,6 +454,9 @@ ParseResult parse_scene(const std::string& text, const std::string& origin) {
   const bool cues_set = root.is_object() && root.contains("cues") &&
                         scene_to_json(result.scene)["cues"] != scene_to_json(Scene{})["cues"];
   check_consistency(result.scene, result.warnings, cues_set);
+  // Resolving the cues checks what needs their positions (an imposed linear profile must
+  // stay non-negative over the domain).
+  if (result.scene.uses_cues() && result.scene.cues.field == FieldKind::kImposed) (void)make_cues(result.scene);
   resolve_output_dependencies(result.scene, result.warnings);
   return result;
 }
@@ -437,6 +508,7 @@ const char* name_of(GuidanceModel v) {
     case GuidanceModel::kDirect: return "direct";
     case GuidanceModel::kSnr: return "snr";
     case GuidanceModel::kVectorSum: return "vector_sum";
+    case GuidanceModel::kSourceVectorSum: return "source_vector_sum";
   }
   return "?";
 }
@@ -445,8 +517,16 @@ const char* name_of(FieldKind v) {
     case FieldKind::kParticles: return "particles";
     case FieldKind::kGrid: return "grid";
     case FieldKind::kAnalytic: return "analytic";
+    case FieldKind::kImposed: return "imposed";
   }
   return "?";
+}
+const char* name_of(NoiseForm v) { return v == NoiseForm::kBinding ? "binding" : "snapshot"; }
+const char* name_of(ParticleSensing v) { return v == ParticleSensing::kSplit ? "split" : "count"; }
+const char* name_of(ImposedProfile v) { return v == ImposedProfile::kLinear ? "linear" : "exponential"; }
+
+std::string Units::describe() const {
+  return fmt::format("length {}, time {}, concentration {}", length, time, concentration);
 }
 const char* name_of(CueKind v) { return v == CueKind::kAttractant ? "attractant" : "repellent"; }
 const char* name_of(Motion v) { return v == Motion::kBrownian ? "brownian" : "ballistic"; }
@@ -480,6 +560,7 @@ json scene_to_json(const Scene& s) {
   j["seed"] = s.seed;
   j["steps"] = s.steps;
   j["dt"] = s.dt;
+  j["units"] = {{"length", s.units.length}, {"time", s.units.time}, {"concentration", s.units.concentration}};
   const auto& n = s.neurons;
   j["neurons"] = {{"count", n.count},
                   {"soma_radius", n.soma_radius},
@@ -488,30 +569,39 @@ json scene_to_json(const Scene& s) {
                   {"overlap", n.overlap_reject ? "reject" : "allow"},
                   {"max_attempts", n.max_attempts}};
   const auto& a = s.axons;
-  j["axons"] = {{"step_length", a.step_length},
+  j["axons"] = {{"step_length", a.growth_speed ? json(nullptr) : json(a.step_length)},
+                {"growth_speed", a.growth_speed ? json(*a.growth_speed) : json(nullptr)},
+                {"persistence_length", a.persistence_length ? json(*a.persistence_length) : json(nullptr)},
+                {"growth_modulation", a.growth_modulation},
                 {"contact_distance", a.contact_distance},
                 {"contact", name_of(a.contact)},
                 {"bounds_radius", a.bounds_radius ? json(*a.bounds_radius) : json(nullptr)}};
   const auto& g = s.guidance;
-  j["guidance"] = {{"model", name_of(g.model)},          {"turn_angle", g.turn_angle},
+  j["guidance"] = {{"model", name_of(g.model)},          {"noise", name_of(g.noise)},
+                   {"turn_angle", g.turn_angle},
                    {"gain", g.gain},                      {"vector_weight", g.vector_weight},
                    {"growth_cone_width", g.growth_cone_width}, {"sensing_radius", g.sensing_radius}};
   const auto& c = s.cues;
   json sources = json::array();
-  for (const auto& src : c.sources) sources.push_back(source_json(src));
+  for (const auto& src : canonical_sources(c.sources)) sources.push_back(source_json(src));
   const auto& rs = c.random_sources;
   j["cues"] = {{"field", name_of(c.field)},
                {"sources", sources},
                {"random_sources", {{"count", rs.count}, {"attractant_fraction", rs.attractant_fraction},
                                    {"emission", rs.emission}, {"diffusion", rs.diffusion},
                                    {"decay", rs.decay}, {"kd", rs.kd}}},
-               {"particles", {{"amount", c.particles.amount}, {"motion", name_of(c.particles.motion)},
+               {"particles", {{"amount", c.particles.amount}, {"sensing", name_of(c.particles.sensing)},
+                              {"motion", name_of(c.particles.motion)},
                               {"collisions", c.particles.collisions}, {"speed", c.particles.speed},
                               {"damping", c.particles.damping}, {"radius", c.particles.radius},
                               {"stiffness", c.particles.stiffness}}},
                {"grid", {{"spacing", c.grid.spacing}, {"scheme", name_of(c.grid.scheme)},
                          {"boundary", name_of(c.grid.boundary)},
-                         {"allow_substeps", c.grid.allow_substeps}}}};
+                         {"allow_substeps", c.grid.allow_substeps}}},
+               {"imposed", {{"profile", name_of(c.imposed.profile)},
+                            {"direction", json::array({c.imposed.direction.x, c.imposed.direction.y, c.imposed.direction.z})},
+                            {"steepness", c.imposed.steepness}, {"reference_length", c.imposed.reference_length},
+                            {"concentration", c.imposed.concentration}}}};
   j["analysis"] = {{"bfs_sources", s.analysis.bfs_sources}, {"components", s.analysis.components}};
   j["output"] = {{"paths", s.output.paths}, {"stats_every", s.output.stats_every},
                  {"vtk", s.output.vtk}, {"frames_every", s.output.frames_every}};

@@ -100,22 +100,22 @@ TEST(growth, StatusesOfOneStep) {
   GrowthParams g{0.35, 0.3, 0.09, 2.0, false, ContactRule::kSwept};
   // Toward neuron 1 from neuron 0's surface: no contact on the first step (0.25 -> 0.6),
   // contact on the second where the segment enters r = 0.3 around x = 1.
-  AxonStep s = grow_axon(0, {0.25, 0, 0}, {1, 0, 0}, g, grid.view());
+  AxonStep s = grow_axon(0, {0.25, 0, 0}, {1, 0, 0}, g.step_length, g, grid.view());
   EXPECT_EQ(s.status, AxonStatus::kGrowing);
-  s = grow_axon(0, s.tip, {1, 0, 0}, g, grid.view());
+  s = grow_axon(0, s.tip, {1, 0, 0}, g.step_length, g, grid.view());
   EXPECT_EQ(s.status, AxonStatus::kConnected);
   EXPECT_EQ(s.target, 1u);
   EXPECT_NEAR(s.tip.x, 0.7, 1e-12);
   EXPECT_NEAR(s.advanced, 0.1, 1e-12);
   // Away from it: leaves a ball of radius 2 after enough steps.
-  s = grow_axon(0, {-1.9, 0, 0}, {-1, 0, 0}, g, grid.view());
+  s = grow_axon(0, {-1.9, 0, 0}, {-1, 0, 0}, g.step_length, g, grid.view());
   EXPECT_EQ(s.status, AxonStatus::kExited);
-  s = grow_axon(0, {-1.0, 0, 0}, {-1, 0, 0}, g, grid.view());
+  s = grow_axon(0, {-1.0, 0, 0}, {-1, 0, 0}, g.step_length, g, grid.view());
   EXPECT_EQ(s.status, AxonStatus::kGrowing);
   EXPECT_DOUBLE_EQ(s.advanced, 0.35);
   // Box bounds: a corner inside the cube is not outside.
   g.bounds_box = true;
-  s = grow_axon(0, {1.5, 1.5, 1.5}, {0, 0, 1}, g, grid.view());
+  s = grow_axon(0, {1.5, 1.5, 1.5}, {0, 0, 1}, g.step_length, g, grid.view());
   EXPECT_EQ(s.status, AxonStatus::kGrowing);
 }
 

@@ -27,28 +27,54 @@ struct CueParams {
   double analytic_scale;  // a Q / (dt 4 pi D): steady-state prefactor, concentration x LU
 };
 
-// Concentration and gradient of one cue at one point.
+// What the growth cone derives from one cue at one point. For grid, analytic and imposed
+// fields grad and grad_check are both the exact gradient. For the particle field (§2.4):
+//   split: c = a n / V from all n particles within r; grad from the particles of even
+//          slot, grad_check from those of odd slot (two independent halves);
+//   count: c as above; grad = the count dipole sum_j (x_j - x) / r (particles, not
+//          concentration units); grad_check unused.
 struct CueSample {
-  double c;   // concentration units
-  Vec3 grad;  // concentration units per LU
+  double c;         // concentration units
+  Vec3 grad;        // concentration units per length unit (count: particles)
+  Vec3 grad_check;  // concentration units per length unit
+};
+
+// An imposed gradient (SPEC §3.3): along the unit vector `direction` from each cue's
+// position p, with t = (x - p).direction,
+//   linear:      C = c0 (1 + rate t),      grad C = c0 rate direction,
+//   exponential: C = c0 e^(rate t),         grad C = rate C direction,
+// where rate = s / L (linear) or ln(1 + s) / L (exponential) for a steepness of s (a
+// fraction) per reference length L, computed on the host.
+struct ImposedParams {
+  ImposedProfile profile;
+  Vec3 direction;  // unit
+  double c0;       // concentration units at the cue's position
+  double rate;     // per length unit
 };
 
 struct SenseParams {
   FieldKind field;
-  double amount;          // a: concentration x LU^3 carried by one particle
-  double radius;          // r: sensing radius, LU
+  ParticleSensing sensing;
+  double amount;          // a: concentration x length^3 carried by one particle
+  double radius;          // r: sensing radius, length units
   double radius2;         // r^2
+  double inv_radius;      // 1/r
   double c_per_particle;  // a / V, V = 4 pi r^3 / 3
-  double grad_scale;      // 5 a / (V r^2)
-  double cone_width;      // w: growth-cone width, LU
-  double analytic_rmin;   // LU: the analytic field is evaluated at max(r, rmin)
+  double half_grad_scale; // 10 a / (V r^2): the gradient estimate of one half-sample
+  double cone_width;      // w: growth-cone width, length units
+  double analytic_rmin;   // length units: the analytic field is evaluated at max(r, rmin)
+  Pull pull;              // which pulls the particle gather sums (vector models)
+  ImposedParams imposed;
 };
 
 struct SteerParams {
   GuidanceModel model;
+  NoiseForm noise;
+  bool count_decision;        // particle field with sensing "count"
   double cos_turn, sin_turn;  // of the turn angle, computed on the host
   double gain;                // alpha
   double vector_weight;       // beta
+  double modulation;          // m in [0, 1): growth-rate modulation (0: off)
 };
 
 }  // namespace axg::core

@@ -12,7 +12,7 @@
 namespace axg::core {
 
 struct GrowthParams {
-  double step_length;     // l, LU per step
+  double step_length;     // l0, length units per step (growth-rate modulation scales it per axon)
   double contact_radius;  // r_s + r_c, LU
   double contact_radius2; // its square, LU^2
   double bounds_radius;   // LU: ball radius, or half-edge when bounds_box
@@ -38,15 +38,16 @@ AXG_HDI bool outside_bounds(Vec3 p, const GrowthParams& g) {
   return norm2(p) > g.bounds_radius * g.bounds_radius;
 }
 
-AXG_HDI AxonStep grow_axon(std::uint32_t self, Vec3 tip, Vec3 heading, const GrowthParams& g,
+// Moves the tip by l h (l: this step's length).
+AXG_HDI AxonStep grow_axon(std::uint32_t self, Vec3 tip, Vec3 heading, double l, const GrowthParams& g,
                            const CellGridView& somas) {
-  const Vec3 s = g.step_length * heading;
+  const Vec3 s = l * heading;
   const Contact c = find_contact(self, tip, s, g.contact_radius, g.contact_radius2, g.rule, somas);
   if (c.target != kNoNeuron)
-    return {tip + c.t * s, c.t * g.step_length, AxonStatus::kConnected, c.target};
+    return {tip + c.t * s, c.t * l, AxonStatus::kConnected, c.target};
   const Vec3 next = tip + s;
-  if (outside_bounds(next, g)) return {next, g.step_length, AxonStatus::kExited, kNoNeuron};
-  return {next, g.step_length, AxonStatus::kGrowing, kNoNeuron};
+  if (outside_bounds(next, g)) return {next, l, AxonStatus::kExited, kNoNeuron};
+  return {next, l, AxonStatus::kGrowing, kNoNeuron};
 }
 
 }  // namespace axg::core

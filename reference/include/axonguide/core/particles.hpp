@@ -127,16 +127,25 @@ AXG_HDI Vec3 collision_push(std::uint32_t self, Vec3 x, const HashGridView& g, c
   return push;
 }
 
-// The sensing gather at x: for every cue, the count of its particles within r and the sum
-// of their offsets; for vector_sum, the sum of unit vectors from each particle toward its
-// source. Order: buckets z, y, x, then particle id, identical on every backend.
+// The sensing gather at x (SPEC §3.4, docs/methods.md §2.4): for every cue, over its n
+// particles within r, C = a n / V and
+//   split: grad from the particles of even slot, grad_check from those of odd slot, each
+//          10 a / (V r^2) sum(x_j - x) (for a linear field the mean of y.g over a ball of
+//          radius r is |g| r^2 / 5, and each half carries half the density). The halves
+//          are independent, so grad_check.u is an unbiased estimate of the gradient along
+//          any direction u chosen from grad, and in a flat field its sign is a fair coin;
+//   count: grad = sum_j (x_j - x) / r, the count dipole.
+// Pulls (vector models): `sensed` sums unit vectors from x toward each particle within r;
+// `source` sums unit vectors from each particle toward its source (the report's rule).
+// Order: buckets z, y, x, then particle id, identical on every backend.
 AXG_HDI void particle_gather(Vec3 x, const HashGridView& g, const CueParams* cues, int cue_count,
-                             const SenseParams& p, bool want_pull, CueSample* samples, Vec3* pull) {
+                             const SenseParams& p, Pull want, CueSample* samples, Vec3* pull) {
   double count[kMaxCues];
-  Vec3 sum[kMaxCues];
+  Vec3 even[kMaxCues], odd[kMaxCues];
   for (int k = 0; k < cue_count; ++k) {
     count[k] = 0.0;
-    sum[k] = {0.0, 0.0, 0.0};
+    even[k] = {0.0, 0.0, 0.0};
+    odd[k] = {0.0, 0.0, 0.0};
     pull[k] = {0.0, 0.0, 0.0};
   }
   const int cx = hash_coord(x.x, g.origin.x, g.cell), cy = hash_coord(x.y, g.origin.y, g.cell),
@@ -147,26 +156,37 @@ AXG_HDI void particle_gather(Vec3 x, const HashGridView& g, const CueParams* cue
         const std::uint32_t b = hash_bucket(cx + dx, cy + dy, cz + dz, g.dim);
         for (std::uint32_t k = g.cell_start[b]; k < g.cell_start[b + 1]; ++k) {
           const Vec3 d = g.pos[k] - x;
-          if (norm2(d) > p.radius2) continue;
+          const double d2 = norm2(d);
+          if (d2 > p.radius2) continue;
           const int c = g.source[k];
           count[c] += 1.0;
-          sum[c] += d;
-          if (want_pull) {
+          if (g.index[k] & 1u) odd[c] += d;
+          else even[c] += d;
+          if (want == Pull::kSensed) {
+            if (d2 > 0.0) pull[c] += d / std::sqrt(d2);
+          } else if (want == Pull::kSource) {
             const Vec3 to_source = cues[c].position - g.pos[k];
             const double n = norm(to_source);
             if (n > 0.0) pull[c] += to_source / n;
           }
         }
       }
-  for (int k = 0; k < cue_count; ++k) samples[k] = particle_sample(count[k], sum[k], p);
+  for (int k = 0; k < cue_count; ++k) {
+    const double c = p.c_per_particle * count[k];
+    if (p.sensing == ParticleSensing::kCount) {
+      const Vec3 dipole = p.inv_radius * (even[k] + odd[k]);
+      samples[k] = {c, dipole, dipole};
+    } else {
+      samples[k] = {c, p.half_grad_scale * even[k], p.half_grad_scale * odd[k]};
+    }
+    pull[k] = cues[k].sign * pull[k];
+  }
 }
 
-// Every cue's sample and signed pull (sum of unit vectors toward the source, times the
-// cue's sign) from the particle field.
+// Every cue's sample and signed pull from the particle field.
 AXG_HDI void sample_particle_field(Vec3 x, const HashGridView& g, const CueParams* cues, int cue_count,
                                    const SenseParams& p, CueSample* samples, Vec3* pull) {
-  particle_gather(x, g, cues, cue_count, p, true, samples, pull);
-  for (int k = 0; k < cue_count; ++k) pull[k] = cues[k].sign * pull[k];
+  particle_gather(x, g, cues, cue_count, p, p.pull, samples, pull);
 }
 
 }  // namespace axg::core

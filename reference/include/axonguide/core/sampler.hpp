@@ -142,4 +142,17 @@ AXG_HDI void direction_normal_nd(R& rng, int d, double* out) {
   }
 }
 
+// A uniform unit vector perpendicular to the unit vector h: a uniform direction (trig
+// sampler) projected onto the plane of h and normalised, redrawn in the rare case that it
+// is nearly parallel to h. By symmetry its azimuth about h is uniform.
+template <class R>
+AXG_HDI Vec3 perpendicular_direction(Vec3 h, R& rng) {
+  for (;;) {
+    const Vec3 v = direction_trig(rng);
+    const Vec3 perp = v - dot(h, v) * h;
+    const double n2 = norm2(perp);
+    if (n2 > 1e-6) return perp / std::sqrt(n2);
+  }
+}
+
 }  // namespace axg::core

@@ -1,10 +1,24 @@
 #pragma once
-// Steering (SPEC §3.5). `snr` (Mortimer et al. 2010): for each detected cue in index
-// order, with g the signed unit gradient and g_perp = g - (h.g) h, sin psi = |g_perp|,
-//   SNR = alpha mu sqrt(gamma / (1 + gamma)^3) sin psi,   X ~ N(SNR, 1),
-// and the heading turns by delta-theta toward g_perp when X > 0, away otherwise:
-//   h <- cos(dtheta) h +- sin(dtheta) g_perp / |g_perp|, renormalised.
-// `vector_sum`: h <- normalise(h + beta sum_j +-u_j).
+// Steering (SPEC §3.5): one decision per step, whatever the number of cues.
+//
+// `snr` (Mortimer et al. 2009-2011). Every detected cue k contributes the evidence vector
+//   e_k = sign_k alpha (w m_k / C_k) f(gamma_k) u_k,
+// where u_k is the unit component of its gradient perpendicular to the heading h, m_k the
+// gradient's component along u_k (|grad_perp| for an exact field; from the independent
+// half-sample for the split particle estimate), and f the receptor-noise form. For one
+// cue |e_k| = alpha mu f(gamma) sin psi, the report's SNR. The evidence combines as
+// E = sum_k e_k (in the canonical cue order): with von Mises likelihoods for the
+// direction, the log-likelihoods of independent cues add, so the combined posterior
+// points along E with concentration |E| (Mortimer, Dayan, Burrage & Goodhill 2011). One
+// draw X ~ N(|E|, 1) decides: the heading turns by delta-theta toward E when X > 0 and
+// away otherwise; h <- cos(dtheta) h +- sin(dtheta) E/|E|. A step with no detected cue
+// makes no cue turn; with |E| ~ 0 the side is a random perpendicular.
+//
+// `snr` with the particle field's count decision: E = sum_k sign_k D_k,perp, the
+// perpendicular count dipoles; the heading turns toward E, no noise added (the count
+// noise is the noise).
+//
+// `vector_sum` / `source_vector_sum`: h <- normalise(h + beta sum_k pull_k).
 #include <cmath>
 
 #include "cues.hpp"
@@ -20,41 +34,88 @@ namespace axg::core {
 // gamma/(1+gamma)^3 = t^2 (gamma t), and gamma t = gamma/(1+gamma) lies in [0, 1).
 // Peaks at gamma = 1/2.
 AXG_HDI double snr_occupancy(double gamma) {
+  if (!(gamma < HUGE_VAL)) return 0.0;
   const double t = 1.0 / (1.0 + gamma);
   return t * std::sqrt(gamma * t);
 }
 
-// Below this |g_perp| the gradient is taken as parallel to the heading.
-inline constexpr double kParallelSin = 1e-12;
-
-// The stream of cue `cue` of neuron `neuron`: id = (cue << 32) | neuron.
-AXG_HDI std::uint64_t steer_stream_id(std::uint32_t neuron, int cue) {
-  return (static_cast<std::uint64_t>(cue) << 32) | neuron;
+// sqrt(gamma) / (1 + gamma) = 1 / (s + 1/s), s = sqrt(gamma): 0 at gamma = 0 and at
+// gamma = inf, no overflow. Peaks at gamma = 1.
+AXG_HDI double snapshot_occupancy(double gamma) {
+  const double s = std::sqrt(gamma);
+  return 1.0 / (s + 1.0 / s);
 }
 
-// One SNR turn of heading h for one detected cue.
-AXG_HDI Vec3 snr_turn(Vec3 h, const Detection& d, const SteerParams& p, std::uint64_t seed,
-                      std::uint32_t neuron, int cue, std::uint32_t step) {
-  Vec3 perp = d.g - dot(h, d.g) * h;
-  const double sin_psi = norm(perp);
-  const double snr = p.gain * d.mu * snr_occupancy(d.gamma) * sin_psi;
-  Rng decision(seed, Stream::kSteerDecision, steer_stream_id(neuron, cue), step);
-  const double x = snr + normal(decision);
-  if (sin_psi < kParallelSin) {
-    // No preferred side: a random direction perpendicular to h.
-    Rng side(seed, Stream::kSteerPerpendicular, steer_stream_id(neuron, cue), step);
-    for (;;) {
-      const Vec3 v = direction_trig(side);
-      perp = v - dot(h, v) * h;
-      if (norm2(perp) > 1e-6) break;
-    }
-  }
-  const Vec3 u = perp / norm(perp);
-  const double s = x > 0.0 ? p.sin_turn : -p.sin_turn;
+AXG_HDI double receptor_noise(double gamma, NoiseForm form) {
+  return form == NoiseForm::kBinding ? snr_occupancy(gamma) : snapshot_occupancy(gamma);
+}
+
+// Below this |E| the evidence has no side: a random perpendicular is used.
+inline constexpr double kParallelSin = 1e-12;
+
+// The SNR a counting growth cone has in an exact field: the dipole component
+// D.u = sum_j (x_j - x).u / r of Poisson particles of intensity C/a in the ball of radius r
+// has mean |grad_perp| V r / (5 a) and variance C V / (5 a), so
+//   SNR_count = |grad_perp| r sqrt(V / (5 a C)).
+// The validation compares the count decision with Phi(SNR_count).
+AXG_HDI double snr_count(double c, double grad_perp, double amount, double radius) {
+  const double volume = 4.0 / 3.0 * 3.141592653589793 * radius * radius * radius;
+  return grad_perp * radius * std::sqrt(volume / (5.0 * amount * c));
+}
+
+struct Steered {
+  Vec3 heading;
+  double along;  // evidence along the old heading (SNR units; count: a z-score), for growth-rate modulation
+};
+
+// The turn of delta-theta toward (x > 0) or away from the unit vector u perpendicular to h.
+AXG_HDI Vec3 turn(Vec3 h, Vec3 u, bool toward, const SteerParams& p) {
+  const double s = toward ? p.sin_turn : -p.sin_turn;
   return normalized(p.cos_turn * h + s * u);
 }
 
-// vector_sum: pull is sum_j +-u_j over the detected cues; a zero or non-finite result
+// The combined evidence of every detected cue (see the top of this file).
+AXG_HDI Steered snr_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
+                          const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t step) {
+  Vec3 e{0.0, 0.0, 0.0};
+  double along = 0.0, count = 0.0;
+  bool any = false;
+  for (int k = 0; k < cue_count; ++k) {
+    const CueSample& s = samples[k];
+    if (!detected(s, cues[k])) continue;
+    any = true;
+    const Vec3 perp = s.grad - dot(h, s.grad) * h;
+    if (p.count_decision) {
+      e += cues[k].sign * perp;
+      along += cues[k].sign * dot(s.grad, h);
+      count += s.c / sp.c_per_particle;
+      continue;
+    }
+    const double weight = cues[k].sign * p.gain * sp.cone_width / s.c * receptor_noise(s.c / cues[k].kd, p.noise);
+    const double pn = norm(perp);
+    if (pn > 0.0) {
+      const Vec3 u = perp / pn;
+      e += (weight * dot(s.grad_check, u)) * u;
+    }
+    along += weight * dot(s.grad_check, h);
+  }
+  if (!any) return {h, 0.0};
+  const double strength = norm(e);
+  bool toward = true;
+  if (p.count_decision) {
+    along = along / std::sqrt(count / 5.0 > 1.0 ? count / 5.0 : 1.0);
+  } else {
+    Rng decision(seed, Stream::kSteerDecision, neuron, step);
+    toward = strength + normal(decision) > 0.0;
+  }
+  if (!(strength >= kParallelSin && strength < HUGE_VAL)) {
+    Rng side(seed, Stream::kSteerPerpendicular, neuron, step);
+    return {turn(h, perpendicular_direction(h, side), toward, p), along};
+  }
+  return {turn(h, e / strength, toward, p), along};
+}
+
+// vector_sum: pull is the sum of the detected cues' pulls; a zero or non-finite result
 // leaves the heading unchanged.
 AXG_HDI Vec3 vector_sum_turn(Vec3 h, Vec3 pull, const SteerParams& p) {
   const Vec3 v = h + p.vector_weight * pull;
@@ -63,31 +124,28 @@ AXG_HDI Vec3 vector_sum_turn(Vec3 h, Vec3 pull, const SteerParams& p) {
   return v / n;
 }
 
-}  // namespace axg::core
-
-namespace axg::core {
-
-// Steers one axon by every cue in index order; samples and pulls come from the field
-// (for the particle field, pull[k] is the signed sum of unit vectors toward the source of
-// cue k's particles within r; for grid and analytic fields, the signed unit gradient).
-// Cues outside their detection window are ignored.
-AXG_HDI Vec3 steer_axon(Vec3 h, const CueSample* samples, const Vec3* pull, const CueParams* cues, int cue_count,
-                        const SenseParams& sp, const SteerParams& p, std::uint64_t seed, std::uint32_t neuron,
-                        std::uint32_t step) {
-  if (p.model == GuidanceModel::kSnr) {
-    for (int k = 0; k < cue_count; ++k) {
-      const Detection d = detect(samples[k], cues[k], sp);
-      if (d.detected) h = snr_turn(h, d, p, seed, neuron, k, step);
-    }
-    return h;
-  }
-  if (p.model == GuidanceModel::kVectorSum) {
+// Steers one axon; samples and pulls come from the field (particles.hpp, sensing.hpp,
+// stencil.hpp). Cues outside their detection window are ignored.
+AXG_HDI Steered steer_axon(Vec3 h, const CueSample* samples, const Vec3* pull, const CueParams* cues, int cue_count,
+                           const SenseParams& sp, const SteerParams& p, std::uint64_t seed, std::uint32_t neuron,
+                           std::uint32_t step) {
+  if (p.model == GuidanceModel::kSnr) return snr_steer(h, samples, cues, cue_count, sp, p, seed, neuron, step);
+  if (p.model == GuidanceModel::kVectorSum || p.model == GuidanceModel::kSourceVectorSum) {
     Vec3 total{0.0, 0.0, 0.0};
     for (int k = 0; k < cue_count; ++k)
-      if (detect(samples[k], cues[k], sp).detected) total += pull[k];
-    return vector_sum_turn(h, total, p);
+      if (detected(samples[k], cues[k])) total += pull[k];
+    return {vector_sum_turn(h, total, p), 0.0};
   }
-  return h;
+  return {h, 0.0};
+}
+
+// Growth-rate modulation (Mortimer et al. 2010): the step grows with the evidence along
+// the heading, l = l0 (1 + m z / (1 + |z|)), within l0 (1 -+ m).
+AXG_HDI double modulated_step(double l0, double along, const SteerParams& p) {
+  const double a = along < 0.0 ? -along : along;
+  double z = along / (1.0 + a);
+  if (!(a < HUGE_VAL)) z = along > 0.0 ? 1.0 : (along < 0.0 ? -1.0 : 0.0);  // +-inf, or NaN as no evidence
+  return l0 * (1.0 + p.modulation * z);
 }
 
 }  // namespace axg::core

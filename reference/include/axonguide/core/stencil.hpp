@@ -15,6 +15,7 @@
 
 #include "cues.hpp"
 #include "hd.hpp"
+#include "sensing.hpp"
 #include "vec3.hpp"
 
 namespace axg::core {
@@ -64,7 +65,8 @@ AXG_HDI CueSample trilinear_sample(Vec3 x, const GridFieldView& g) {
   const double ddx = gz * (gy * dx00 + fy * dx10) + fz * (gy * dx01 + fy * dx11);
   const double ddy = gz * (c10 - c00) + fz * (c11 - c01);
   const double ddz = c1 - c0;
-  return {value, Vec3{ddx, ddy, ddz} / g.h};
+  const Vec3 grad = Vec3{ddx, ddy, ddz} / g.h;
+  return {value, grad, grad};
 }
 
 // The grids of all cues (cue k's n^3 values at c[k]).
@@ -82,8 +84,7 @@ AXG_HDI void sample_grid_field(Vec3 x, const GridFieldSet& set, const CueParams*
                                CueSample* samples, Vec3* pull) {
   for (int k = 0; k < cue_count; ++k) {
     samples[k] = trilinear_sample(x, cue_view(set, k));
-    const double n = norm(samples[k].grad);
-    pull[k] = n > 0.0 ? (cues[k].sign / n) * samples[k].grad : Vec3{0.0, 0.0, 0.0};
+    pull[k] = signed_unit_gradient(samples[k], cues[k].sign);
   }
 }
 

@@ -3,6 +3,7 @@
 // a Report; `all` runs every study into DIR/<study>/ and writes an index.
 #include <string>
 
+#include "axonguide/core/steering.hpp"
 #include "axonguide/validate/report.hpp"
 
 namespace axg::validate {
@@ -24,6 +25,12 @@ void validate_gpu(const Options& o, Report& r);
 
 // Runs one study (or "all") into `dir`; returns the exit code (0 pass, 1 a check failed).
 int run_validation(const std::string& what, const std::string& dir, const Options& o);
+
+// One SNR decision of the real steering function for one exact cue with occupancy gamma
+// (K_d = 1), fractional gradient mu along the unit vector g, heading h.
+core::Steered one_cue_decision(core::Vec3 h, double gamma, double mu, core::Vec3 g, const core::SteerParams& p,
+                               std::uint64_t seed, std::uint32_t neuron, std::uint32_t step);
+core::SteerParams default_snr_params(core::NoiseForm noise);
 
 // Least-squares slope and intercept of y on x (Eigen), with the slope's standard error.
 struct Fit {

@@ -78,6 +78,16 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
   fmt::print("axonguide {} ({}) — {} backend, {} thread{}\n", kVersion, kCommit, args.backend, threads,
              threads == 1 ? "" : "s");
   fmt::print("scene     {} (seed {})\n          {}\n", origin, s.seed, scene_line(s));
+  fmt::print("units     {}{}\n", s.units.describe(), s.units.declared() ? "" : " (none declared: the report's units)");
+  fmt::print("axons     step {} {}{}, {}{}\n", s.axons.step_length, s.units.length,
+             s.axons.growth_speed ? fmt::format(" (growth speed {} {}/{} x dt {})", *s.axons.growth_speed, s.units.length,
+                                                s.units.time, s.dt)
+                                  : std::string(),
+             s.axons.persistence_length
+                 ? fmt::format("wandering with persistence length {} {}", *s.axons.persistence_length, s.units.length)
+                 : std::string("no wandering (straight between turns)"),
+             s.axons.growth_modulation > 0 ? fmt::format(", growth-rate modulation m = {}", s.axons.growth_modulation)
+                                           : std::string());
   fmt::print("placement {} neurons, {} redraws, packing fraction {:.4f}\n", r.neurons.size(), r.placement_redraws,
              packing_fraction(s.neurons));
   if (s.uses_cues()) {

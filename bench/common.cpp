@@ -47,6 +47,7 @@ Scene paper_direct_scene(std::uint64_t neurons) {
   s.neurons.radius = std::round(2.5 * std::cbrt(static_cast<double>(neurons) / 100.0) * 1e4) / 1e4;
   s.guidance.model = GuidanceModel::kDirect;
   s.steps = 100;
+  s.axons.persistence_length.reset();  // the report's straight axons
   return s;
 }
 
@@ -58,6 +59,9 @@ Scene paper_cue_scene(std::uint64_t neurons) {
   s.neurons.radius = 2.5;
   s.neurons.soma_radius = std::round(2.5 * std::cbrt(0.1 / static_cast<double>(neurons)) * 1e4) / 1e4;
   s.steps = 100;
+  s.axons.persistence_length.reset();  // the report's straight axons
+  s.cues.particles.amount = 0.01;       // and the report's particle amount and emission
+  for (auto& src : s.cues.sources) src.emission = 100;
   return s;
 }
 

@@ -49,7 +49,7 @@ inline constexpr double kMicrometresPerLu = 40.0;
 struct Source {
   CueKind kind = CueKind::kAttractant;
   std::optional<core::Vec3> position;  // nullopt: sampled inside the region
-  double emission = 100;               // particles (amount units) per step
+  double emission = 1000;              // particles per step (a x emission: concentration x volume per step)
   double diffusion = 0.05;             // D, LU^2 per step
   double decay = 0.05;                 // k, per step
   double kd = 1.0;                     // K_d, concentration units
@@ -60,7 +60,7 @@ struct Source {
 struct RandomSources {
   std::uint32_t count = 0;
   double attractant_fraction = 0.5;
-  double emission = 100;
+  double emission = 1000;
   double diffusion = 0.05;
   double decay = 0.05;
   double kd = 1.0;
@@ -108,7 +108,10 @@ struct Scene {
     std::vector<Source> sources;
     RandomSources random_sources;
     struct Particles {
-      double amount = 0.01;  // concentration units x length^3 carried by one particle
+      // Concentration units x length^3 carried by one particle. The default, with the
+      // default emission, puts tens to hundreds of particles in a sensing ball near a
+      // source (docs/methods.md §2.4: the split estimate needs them to guide).
+      double amount = 0.001;
       ParticleSensing sensing = ParticleSensing::kSplit;
       Motion motion = Motion::kBrownian;
       bool collisions = false;

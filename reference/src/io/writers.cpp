@@ -181,6 +181,7 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
                            {"compiler", kCompiler}, {"cxx_flags", kCxxFlags}};
   manifest["scene"] = scene_to_json(r.scene);
   manifest["seed"] = r.scene.seed;
+  manifest["units"] = r.scene.units.describe();
   manifest["backend"] = backend_name;
   manifest["threads"] = threads;
   manifest["created"] = utc_now();

@@ -26,6 +26,7 @@ const Study kStudies[] = {
     {"field", "Cue fields: error against run time", validate_field},
     {"stiff", "Stiff and extreme cases", validate_stiff},
     {"turning", "The SNR turning model", validate_turning},
+    {"guidance", "Particle sensing and guidance: flat field, convergence, persistence", validate_guidance},
     {"bfs", "BFS and components against Boost.Graph", validate_bfs},
     {"gpu", "Reference against the CUDA accelerator", validate_gpu},
 };

@@ -34,12 +34,16 @@ class AccelEngine final : public Engine {
     thrust::sequence(active_.begin(), active_.end());
     active_next_.resize(n);
     if (modulates_growth(scene)) step_length_.assign(n, growth_.step_length);
-    if (scene.uses_cues()) init_field();
+    if (scene.uses_cues()) {
+      init_field();
+      PhaseTimes warmup;  // before the step loop: not part of any step's timings
+      for (std::uint32_t s = 1; s <= scene.cues.warmup_steps; ++s) advance_field(s, warmup);
+    }
   }
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     if (scene_.uses_cues()) {
-      advance_field(step, times);
+      advance_field(scene_.cues.warmup_steps + step, times);
       ScopedPhase p(times, step, "steer");
       launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(), growth_.step_length,
                                    fields(), steer_, scene_.seed, step});

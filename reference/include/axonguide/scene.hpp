@@ -50,8 +50,8 @@ struct Source {
   CueKind kind = CueKind::kAttractant;
   std::optional<core::Vec3> position;  // nullopt: sampled inside the region
   double emission = 1000;              // particles per step (a x emission: concentration x volume per step)
-  double diffusion = 0.05;             // D, LU^2 per step
-  double decay = 0.05;                 // k, per step
+  double diffusion = 0.05;             // D, length^2 per time unit
+  double decay = 0.05;                 // k, per time unit
   double kd = 1.0;                     // K_d, concentration units
   double min_concentration = 0.0;
   double max_concentration = 1e300;
@@ -95,7 +95,7 @@ struct Scene {
 
   struct Guidance {
     GuidanceModel model = GuidanceModel::kSnr;
-    NoiseForm noise = NoiseForm::kBinding;
+    NoiseForm noise = NoiseForm::kCount;
     double turn_angle = 0.10471975511965977;  // pi/30
     double gain = 250;                         // alpha
     double vector_weight = 0.1;                // beta
@@ -105,14 +105,16 @@ struct Scene {
 
   struct Cues {
     FieldKind field = FieldKind::kParticles;
+    // Steps the cue fields advance before growth starts (a pre-established gradient, as
+    // in an assay); growth step s is field step warmup_steps + s.
+    std::uint32_t warmup_steps = 0;
     std::vector<Source> sources;
     RandomSources random_sources;
     struct Particles {
       // Concentration units x length^3 carried by one particle. The default, with the
       // default emission, puts tens to hundreds of particles in a sensing ball near a
-      // source (docs/methods.md §2.4: the split estimate needs them to guide).
+      // source (docs/methods.md §2.6: the split estimate needs them to guide).
       double amount = 0.001;
-      ParticleSensing sensing = ParticleSensing::kSplit;
       Motion motion = Motion::kBrownian;
       bool collisions = false;
       double speed = 0.0;      // ballistic: initial speed, LU/step (0: sqrt(6 D / dt))
@@ -193,7 +195,6 @@ const char* name_of(Motion v);
 const char* name_of(GridScheme v);
 const char* name_of(GridBoundary v);
 const char* name_of(NoiseForm v);
-const char* name_of(ParticleSensing v);
 const char* name_of(ImposedProfile v);
 const char* name_of(core::AxonStatus v);
 

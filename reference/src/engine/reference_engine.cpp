@@ -60,13 +60,17 @@ class ReferenceEngine final : public Engine {
     active_.resize(n);
     for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
     if (modulated_) step_length_.assign(n, params_.step_length);
+    if (field_) {
+      PhaseTimes warmup;  // before the step loop: not part of any step's timings
+      for (std::uint32_t s = 1; s <= scene.cues.warmup_steps; ++s) field_->advance(s, warmup);
+    }
   }
 
   // The pipeline of SPEC §3.2: (1) cue fields advance, (2) sense and steer, (3) move,
   // (4) contact and bounds; then the growing axons are compacted.
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     if (field_) {
-      field_->advance(step, times);
+      field_->advance(scene_.cues.warmup_steps + step, times);
       ScopedPhase p(times, step, "steer");
       steer(step);
     }

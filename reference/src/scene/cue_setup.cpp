@@ -89,13 +89,15 @@ core::SenseParams sense_params(const Scene& scene) {
   const double r = scene.guidance.sensing_radius;
   const double volume = 4.0 / 3.0 * 3.141592653589793 * r * r * r;
   p.field = scene.cues.field;
-  p.sensing = scene.cues.particles.sensing;
+  p.sensing = scene.guidance.noise == NoiseForm::kCount ? core::ParticleSensing::kCount : core::ParticleSensing::kSplit;
   p.amount = scene.cues.particles.amount;
   p.radius = r;
   p.radius2 = r * r;
   p.inv_radius = 1.0 / r;
   p.c_per_particle = p.amount / volume;
   p.half_grad_scale = 10.0 * p.amount / (volume * r * r);
+  p.count_mean_scale = volume * r / (5.0 * p.amount);
+  p.count_var_scale = volume / (5.0 * p.amount);
   p.cone_width = scene.guidance.growth_cone_width;
   p.analytic_rmin = 1e-3;
   switch (scene.guidance.model) {
@@ -122,7 +124,6 @@ core::SteerParams steer_params(const Scene& scene) {
   p.gain = scene.guidance.gain;
   p.vector_weight = scene.guidance.vector_weight;
   p.noise = scene.guidance.noise;
-  p.count_decision = scene.cues.field == FieldKind::kParticles && scene.cues.particles.sensing == ParticleSensing::kCount;
   p.modulation = scene.axons.growth_modulation;
   return p;
 }
@@ -229,8 +230,9 @@ std::string grid_field_note(const Scene& scene, const std::vector<core::CueParam
 double expected_particles(const Scene& scene) {
   double total = 0;
   for (const auto& c : make_cues(scene)) {
-    const double lifetime = c.survival < 1.0 ? 1.0 / (1.0 - c.survival) : static_cast<double>(scene.steps);
-    total += c.emission * std::min(lifetime, static_cast<double>(scene.steps));
+    const double horizon = static_cast<double>(scene.steps) + static_cast<double>(scene.cues.warmup_steps);
+    const double lifetime = c.survival < 1.0 ? 1.0 / (1.0 - c.survival) : horizon;
+    total += c.emission * std::min(lifetime, horizon);
   }
   return total;
 }

@@ -185,8 +185,9 @@ void check_nesting(const std::string& text, const std::string& origin) {
 core::Vec3 read_position(const json& v, const std::string& path) {
   if (!v.is_array() || v.size() != 3) fail(path, v, "must be [x, y, z] or null");
   double c[3];
+  // + 0.0 turns -0 into +0: one position, one canonical form and one sort key.
   for (int k = 0; k < 3; ++k)
-    c[k] = ObjectReader::read_number(v[k], fmt::format("{}[{}]", path, k), Range{});
+    c[k] = ObjectReader::read_number(v[k], fmt::format("{}[{}]", path, k), Range{}) + 0.0;
   return {c[0], c[1], c[2]};
 }
 
@@ -288,7 +289,8 @@ void read_scene(const json& root, Scene& s) {
     r.choice("model", g.model, {{"direct", GuidanceModel::kDirect}, {"snr", GuidanceModel::kSnr},
                                 {"vector_sum", GuidanceModel::kVectorSum},
                                 {"source_vector_sum", GuidanceModel::kSourceVectorSum}});
-    r.choice("noise", g.noise, {{"binding", NoiseForm::kBinding}, {"snapshot", NoiseForm::kSnapshot}});
+    r.choice("noise", g.noise, {{"binding", NoiseForm::kBinding}, {"snapshot", NoiseForm::kSnapshot},
+                                {"count", NoiseForm::kCount}});
     r.number("turn_angle", g.turn_angle, {0, 3.141592653589793, false, false});
     r.number("gain", g.gain, non_negative());
     r.number("vector_weight", g.vector_weight, non_negative());
@@ -302,12 +304,12 @@ void read_scene(const json& root, Scene& s) {
     auto& c = s.cues;
     r.choice("field", c.field, {{"particles", FieldKind::kParticles}, {"grid", FieldKind::kGrid},
                                 {"analytic", FieldKind::kAnalytic}, {"imposed", FieldKind::kImposed}});
+    r.integer("warmup_steps", c.warmup_steps, 0, 1000000);
     if (const json* src = r.take("sources")) {
       if (!src->is_array()) fail("cues.sources", *src, "must be an array of source objects");
       c.sources.clear();
       for (std::size_t k = 0; k < src->size(); ++k)
         c.sources.push_back(read_source((*src)[k], fmt::format("cues.sources[{}]", k)));
-      c.sources = canonical_sources(c.sources);
     }
     if (const json* rs = r.take("random_sources")) {
       ObjectReader rr(*rs, "cues.random_sources");
@@ -321,7 +323,6 @@ void read_scene(const json& root, Scene& s) {
       ObjectReader rr(*p, "cues.particles");
       auto& q = c.particles;
       rr.number("amount", q.amount, positive());
-      rr.choice("sensing", q.sensing, {{"split", ParticleSensing::kSplit}, {"count", ParticleSensing::kCount}});
       rr.choice("motion", q.motion, {{"brownian", Motion::kBrownian}, {"ballistic", Motion::kBallistic}});
       rr.boolean("collisions", q.collisions);
       rr.number("speed", q.speed, non_negative());
@@ -453,7 +454,8 @@ ParseResult parse_scene(const std::string& text, const std::string& origin) {
   // Warn about ignored cues only when the user set some (the canonical form always has them).
   const bool cues_set = root.is_object() && root.contains("cues") &&
                         scene_to_json(result.scene)["cues"] != scene_to_json(Scene{})["cues"];
-  check_consistency(result.scene, result.warnings, cues_set);
+  check_consistency(result.scene, result.warnings, cues_set);  // messages name the file's source indices
+  result.scene.cues.sources = canonical_sources(result.scene.cues.sources);
   // Resolving the cues checks what needs their positions (an imposed linear profile must
   // stay non-negative over the domain).
   if (result.scene.uses_cues() && result.scene.cues.field == FieldKind::kImposed) (void)make_cues(result.scene);
@@ -521,8 +523,14 @@ const char* name_of(FieldKind v) {
   }
   return "?";
 }
-const char* name_of(NoiseForm v) { return v == NoiseForm::kBinding ? "binding" : "snapshot"; }
-const char* name_of(ParticleSensing v) { return v == ParticleSensing::kSplit ? "split" : "count"; }
+const char* name_of(NoiseForm v) {
+  switch (v) {
+    case NoiseForm::kBinding: return "binding";
+    case NoiseForm::kSnapshot: return "snapshot";
+    case NoiseForm::kCount: return "count";
+  }
+  return "?";
+}
 const char* name_of(ImposedProfile v) { return v == ImposedProfile::kLinear ? "linear" : "exponential"; }
 
 std::string Units::describe() const {
@@ -586,11 +594,12 @@ json scene_to_json(const Scene& s) {
   for (const auto& src : canonical_sources(c.sources)) sources.push_back(source_json(src));
   const auto& rs = c.random_sources;
   j["cues"] = {{"field", name_of(c.field)},
+               {"warmup_steps", c.warmup_steps},
                {"sources", sources},
                {"random_sources", {{"count", rs.count}, {"attractant_fraction", rs.attractant_fraction},
                                    {"emission", rs.emission}, {"diffusion", rs.diffusion},
                                    {"decay", rs.decay}, {"kd", rs.kd}}},
-               {"particles", {{"amount", c.particles.amount}, {"sensing", name_of(c.particles.sensing)},
+               {"particles", {{"amount", c.particles.amount},
                               {"motion", name_of(c.particles.motion)},
                               {"collisions", c.particles.collisions}, {"speed", c.particles.speed},
                               {"damping", c.particles.damping}, {"radius", c.particles.radius},

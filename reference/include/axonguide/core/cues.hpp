@@ -28,7 +28,7 @@ struct CueParams {
 };
 
 // What the growth cone derives from one cue at one point. For grid, analytic and imposed
-// fields grad and grad_check are both the exact gradient. For the particle field (§2.4):
+// fields grad and grad_check are both the exact gradient. For the particle field (§2.6):
 //   split: c = a n / V from all n particles within r; grad from the particles of even
 //          slot, grad_check from those of odd slot (two independent halves);
 //   count: c as above; grad = the count dipole sum_j (x_j - x) / r (particles, not
@@ -61,6 +61,8 @@ struct SenseParams {
   double inv_radius;      // 1/r
   double c_per_particle;  // a / V, V = 4 pi r^3 / 3
   double half_grad_scale; // 10 a / (V r^2): the gradient estimate of one half-sample
+  double count_mean_scale;// V r / (5 a): mean count dipole per unit gradient (count noise, exact fields)
+  double count_var_scale; // V / (5 a): count-dipole variance per axis per unit concentration
   double cone_width;      // w: growth-cone width, length units
   double analytic_rmin;   // length units: the analytic field is evaluated at max(r, rmin)
   Pull pull;              // which pulls the particle gather sums (vector models)
@@ -70,7 +72,6 @@ struct SenseParams {
 struct SteerParams {
   GuidanceModel model;
   NoiseForm noise;
-  bool count_decision;        // particle field with sensing "count"
   double cos_turn, sin_turn;  // of the turn angle, computed on the host
   double gain;                // alpha
   double vector_weight;       // beta

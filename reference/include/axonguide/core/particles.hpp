@@ -127,7 +127,7 @@ AXG_HDI Vec3 collision_push(std::uint32_t self, Vec3 x, const HashGridView& g, c
   return push;
 }
 
-// The sensing gather at x (SPEC §3.4, docs/methods.md §2.4): for every cue, over its n
+// The sensing gather at x (SPEC §3.4, docs/methods.md §2.6): for every cue, over its n
 // particles within r, C = a n / V and
 //   split: grad from the particles of even slot, grad_check from those of odd slot, each
 //          10 a / (V r^2) sum(x_j - x) (for a linear field the mean of y.g over a ball of

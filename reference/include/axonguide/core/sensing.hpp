@@ -68,11 +68,12 @@ AXG_HDI void sample_imposed_field(Vec3 x, const CueParams* cues, int cue_count, 
   }
 }
 
-// A cue is detected when 0 < C, C lies in [C_min, C_max] and the direction estimate is
-// non-zero and finite.
+// A cue is detected when 0 < C, C lies in [C_min, C_max] and its gradient estimate is
+// non-zero and finite (either half of a split sample counts: a cue whose particles all
+// fall in one half is still sensed).
 AXG_HDI bool detected(const CueSample& s, const CueParams& cue) {
   if (!(s.c > 0.0) || s.c < cue.min_c || s.c > cue.max_c) return false;
-  const double gn = norm2(s.grad);
+  const double gn = norm2(s.grad) + norm2(s.grad_check);
   return gn > 0.0 && gn < HUGE_VAL;
 }
 

@@ -14,9 +14,9 @@
 // away otherwise; h <- cos(dtheta) h +- sin(dtheta) E/|E|. A step with no detected cue
 // makes no cue turn; with |E| ~ 0 the side is a random perpendicular.
 //
-// `snr` with the particle field's count decision: E = sum_k sign_k D_k,perp, the
-// perpendicular count dipoles; the heading turns toward E, no noise added (the count
-// noise is the noise).
+// `snr` with the count noise form: the heading turns toward the perpendicular part of
+// the signed count dipole of the particles within r (count_steer); no noise is added
+// to the count noise.
 //
 // `vector_sum` / `source_vector_sum`: h <- normalise(h + beta sum_k pull_k).
 #include <cmath>
@@ -46,8 +46,10 @@ AXG_HDI double snapshot_occupancy(double gamma) {
   return 1.0 / (s + 1.0 / s);
 }
 
+// f(gamma) of an SNR noise form (the count decision has none: 0).
 AXG_HDI double receptor_noise(double gamma, NoiseForm form) {
-  return form == NoiseForm::kBinding ? snr_occupancy(gamma) : snapshot_occupancy(gamma);
+  if (form == NoiseForm::kBinding) return snr_occupancy(gamma);
+  return form == NoiseForm::kSnapshot ? snapshot_occupancy(gamma) : 0.0;
 }
 
 // Below this |E| the evidence has no side: a random perpendicular is used.
@@ -74,24 +76,62 @@ AXG_HDI Vec3 turn(Vec3 h, Vec3 u, bool toward, const SteerParams& p) {
   return normalized(p.cos_turn * h + s * u);
 }
 
+// The count decision (noise form kCount). The growth cone counts every detected cue's
+// particles within r and turns toward the perpendicular part of the signed dipole
+// D = sum_k sign_k sum_j (x_j - x) / r; nothing is added to the count noise. For an
+// exact field the dipole of Poisson particles of intensity C/a is drawn in its Gaussian
+// limit: mean sum_k sign_k grad C_k V r / (5a), variance sum_k C_k V / (5a) per axis
+// (three normal deviates from the decision stream). `along` is the z-score of D along h.
+AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
+                            const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t step) {
+  Vec3 d{0.0, 0.0, 0.0};
+  double variance = 0.0;  // of D per axis
+  bool any = false;
+  const bool particles = sp.field == FieldKind::kParticles;
+  for (int k = 0; k < cue_count; ++k) {
+    const CueSample& s = samples[k];
+    if (!detected(s, cues[k])) continue;
+    any = true;
+    if (particles) {
+      d += cues[k].sign * s.grad;
+      variance += s.c / sp.c_per_particle / 5.0;  // n_k / 5
+    } else {
+      d += (cues[k].sign * sp.count_mean_scale) * s.grad;
+      variance += sp.count_var_scale * s.c;
+    }
+  }
+  if (!any) return {h, 0.0};
+  const double sd = std::sqrt(variance);
+  if (!particles) {
+    Rng noise(seed, Stream::kSteerDecision, neuron, step);
+    double z0, z1, z2, unused;
+    normal_pair(noise, &z0, &z1);
+    normal_pair(noise, &z2, &unused);
+    d += sd * Vec3{z0, z1, z2};
+  }
+  const double along = sd > 0.0 ? dot(d, h) / sd : 0.0;
+  const Vec3 perp = d - dot(d, h) * h;
+  const double pn = norm(perp);
+  if (!(pn >= kParallelSin * (sd > 1.0 ? sd : 1.0) && pn < HUGE_VAL)) {
+    Rng side(seed, Stream::kSteerPerpendicular, neuron, step);
+    return {turn(h, perpendicular_direction(h, side), true, p), along};
+  }
+  return {turn(h, perp / pn, true, p), along};
+}
+
 // The combined evidence of every detected cue (see the top of this file).
 AXG_HDI Steered snr_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
                           const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t step) {
+  if (p.noise == NoiseForm::kCount) return count_steer(h, samples, cues, cue_count, sp, p, seed, neuron, step);
   Vec3 e{0.0, 0.0, 0.0};
-  double along = 0.0, count = 0.0;
+  double along = 0.0;
   bool any = false;
   for (int k = 0; k < cue_count; ++k) {
     const CueSample& s = samples[k];
     if (!detected(s, cues[k])) continue;
     any = true;
-    const Vec3 perp = s.grad - dot(h, s.grad) * h;
-    if (p.count_decision) {
-      e += cues[k].sign * perp;
-      along += cues[k].sign * dot(s.grad, h);
-      count += s.c / sp.c_per_particle;
-      continue;
-    }
     const double weight = cues[k].sign * p.gain * sp.cone_width / s.c * receptor_noise(s.c / cues[k].kd, p.noise);
+    const Vec3 perp = s.grad - dot(h, s.grad) * h;
     const double pn = norm(perp);
     if (pn > 0.0) {
       const Vec3 u = perp / pn;
@@ -101,13 +141,8 @@ AXG_HDI Steered snr_steer(Vec3 h, const CueSample* samples, const CueParams* cue
   }
   if (!any) return {h, 0.0};
   const double strength = norm(e);
-  bool toward = true;
-  if (p.count_decision) {
-    along = along / std::sqrt(count / 5.0 > 1.0 ? count / 5.0 : 1.0);
-  } else {
-    Rng decision(seed, Stream::kSteerDecision, neuron, step);
-    toward = strength + normal(decision) > 0.0;
-  }
+  Rng decision(seed, Stream::kSteerDecision, neuron, step);
+  const bool toward = strength + normal(decision) > 0.0;
   if (!(strength >= kParallelSin && strength < HUGE_VAL)) {
     Rng side(seed, Stream::kSteerPerpendicular, neuron, step);
     return {turn(h, perpendicular_direction(h, side), toward, p), along};

@@ -11,13 +11,15 @@ enum class ContactRule : std::uint8_t { kSwept, kEndpoint };
 // source), which needs knowledge no growth cone has; kept under a name that says so.
 enum class GuidanceModel : std::uint8_t { kDirect, kSnr, kVectorSum, kSourceVectorSum };
 enum class FieldKind : std::uint8_t { kParticles, kGrid, kAnalytic, kImposed };
-// The receptor-noise form f(gamma) of the SNR (docs/methods.md §2.5): counting binding
-// events, sqrt(gamma / (1 + gamma)^3), peak at C = K_d / 2; the binomial snapshot of
-// receptor occupancy, sqrt(gamma) / (1 + gamma), peak at C = K_d.
-enum class NoiseForm : std::uint8_t { kBinding, kSnapshot };
-// What a growth cone derives from the particles within its sensing radius (§2.4):
-// kSplit: an unbiased split-sample estimate fed to the SNR decision; kCount: the count
-// dipole decides, the count noise being the only noise.
+// The noise of the growth cone's decision (docs/methods.md §2.6-§2.7). kBinding and
+// kSnapshot are the SNR model's receptor-noise forms f(gamma): counting binding events,
+// sqrt(gamma / (1 + gamma)^3), peak at C = K_d / 2; the binomial snapshot of receptor
+// occupancy, sqrt(gamma) / (1 + gamma), peak at C = K_d. kCount: the growth cone counts
+// the cue's particles (of amount a) within its sensing radius and turns toward their
+// dipole; the Poisson count noise is the only noise (for exact fields, its Gaussian limit).
+enum class NoiseForm : std::uint8_t { kBinding, kSnapshot, kCount };
+// What the particle gather derives (particles.hpp), set by the noise form: kSplit for the
+// SNR forms (an unbiased split-sample estimate), kCount for the count decision.
 enum class ParticleSensing : std::uint8_t { kSplit, kCount };
 enum class ImposedProfile : std::uint8_t { kLinear, kExponential };
 // Which pulls the particle gather sums for the vector models (particles.hpp).

@@ -60,7 +60,8 @@ Scene paper_cue_scene(std::uint64_t neurons) {
   s.neurons.soma_radius = std::round(2.5 * std::cbrt(0.1 / static_cast<double>(neurons)) * 1e4) / 1e4;
   s.steps = 100;
   s.axons.persistence_length.reset();  // the report's straight axons
-  s.cues.particles.amount = 0.01;       // and the report's particle amount and emission
+  s.guidance.noise = NoiseForm::kBinding;  // the report's SNR form,
+  s.cues.particles.amount = 0.01;          // particle amount and emission
   for (auto& src : s.cues.sources) src.emission = 100;
   return s;
 }

@@ -29,6 +29,15 @@ struct SceneName {
   }
 };
 
+inline Source with_position(Source s, core::Vec3 p) {
+  s.position = p;
+  return s;
+}
+inline Source repellent(Source s) {
+  s.kind = CueKind::kRepellent;
+  return s;
+}
+
 // Every bundled scene, every golden scene, the default, and one small variant per field,
 // motion, scheme, boundary, steering model, sampler and contact rule. `small` shrinks the
 // bundled scenes (the CPU emulation runs its kernels on one thread).
@@ -99,6 +108,113 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
          s.guidance.model = GuidanceModel::kVectorSum;
          s.neurons.sampler = Sampler::kNormal;
        }},
+      // The guidance-model options (SPEC §3.3-§3.5): one variant each.
+      {"particles-snr-noise-binding", [](Scene& s) { s.guidance.noise = NoiseForm::kBinding; }},
+      {"particles-snr-noise-snapshot", [](Scene& s) { s.guidance.noise = NoiseForm::kSnapshot; }},
+      {"particles-snr-sensing-count", [](Scene& s) { use_count_sensing(s); }},
+      {"imposed-linear-snr", [](Scene& s) {
+         s.cues.field = FieldKind::kImposed;
+         s.cues.imposed.profile = ImposedProfile::kLinear;
+         s.cues.imposed.direction = core::normalized(core::Vec3{1.0, 0.5, -0.25});
+         s.cues.imposed.steepness = 5.0;  // 5 % per LU: stays > 0 over the radius ~4 ball
+         s.cues.imposed.reference_length = 1.0;
+         s.cues.imposed.concentration = 0.5;
+         s.cues.sources = {with_position(Source{}, {0.5, 0.0, 0.0}),
+                           with_position(repellent(Source{}), {-1.0, 0.5, 0.25})};
+       }},
+      {"imposed-exponential-snr-snapshot", [](Scene& s) {
+         s.cues.field = FieldKind::kImposed;
+         s.cues.imposed.profile = ImposedProfile::kExponential;
+         s.cues.imposed.direction = {0.0, 0.0, -1.0};
+         s.cues.imposed.steepness = 40.0;
+         s.cues.imposed.reference_length = 1.0;
+         s.cues.imposed.concentration = 2.0;
+         s.guidance.noise = NoiseForm::kSnapshot;
+         s.cues.sources = {with_position(Source{}, {0.0, 1.0, 0.0}),
+                           with_position(repellent(Source{}), {1.0, -1.0, 0.5})};
+       }},
+      {"imposed-exponential-vector-sum", [](Scene& s) {
+         s.cues.field = FieldKind::kImposed;
+         s.guidance.model = GuidanceModel::kVectorSum;
+         s.cues.imposed.steepness = 20.0;
+         s.cues.imposed.reference_length = 1.0;
+         s.cues.sources = {with_position(Source{}, {0.0, 0.0, 0.0})};
+       }},
+      {"particles-vector-sum-sensed", [](Scene& s) {
+         s.guidance.model = GuidanceModel::kVectorSum;
+         s.guidance.vector_weight = 0.5;
+       }},
+      {"particles-source-vector-sum", [](Scene& s) { s.guidance.model = GuidanceModel::kSourceVectorSum; }},
+      {"analytic-source-vector-sum", [](Scene& s) {
+         s.cues.field = FieldKind::kAnalytic;
+         s.guidance.model = GuidanceModel::kSourceVectorSum;
+       }},
+      {"particles-snr-growth-modulation", [](Scene& s) { s.axons.growth_modulation = 0.5; }},
+      {"particles-count-growth-modulation", [](Scene& s) {
+         s.axons.growth_modulation = 0.5;
+         use_count_sensing(s);
+       }},
+      {"analytic-snr-growth-modulation", [](Scene& s) {
+         s.cues.field = FieldKind::kAnalytic;
+         s.axons.growth_modulation = 0.5;
+       }},
+      {"grid-snr-growth-modulation-short-persistence", [](Scene& s) {
+         s.cues.field = FieldKind::kGrid;
+         s.axons.growth_modulation = 0.5;
+         s.axons.persistence_length = 0.5;
+       }},
+      {"particles-snr-persistence-off", [](Scene& s) { s.axons.persistence_length.reset(); }},
+      {"particles-snr-persistence-short", [](Scene& s) { s.axons.persistence_length = 0.5; }},
+      {"direct-persistence-short", [](Scene& s) {
+         s.guidance.model = GuidanceModel::kDirect;
+         s.axons.persistence_length = 0.5;
+       }},
+      {"units-um-min-nM-growth-speed", [](Scene& s) {
+         // 1 LU read as 40 um: the region, somas and cues scaled so the run is the same size.
+         s.units.length = "um";
+         s.units.time = "min";
+         s.units.concentration = "nM";
+         s.dt = 0.5;
+         s.neurons.radius *= 40.0;
+         s.neurons.soma_radius *= 40.0;
+         s.axons.contact_distance *= 40.0;
+         s.axons.growth_speed = 28.0;  // um/min: step length 14 um = 0.35 LU
+         s.axons.step_length = *s.axons.growth_speed * s.dt;
+         s.axons.persistence_length = 250.0;
+         s.guidance.sensing_radius *= 40.0;
+         s.guidance.growth_cone_width *= 40.0;
+         s.cues.field = FieldKind::kAnalytic;
+         s.cues.particles.amount *= 64000.0;  // per um^3: the same concentrations
+         for (Source& src : s.cues.sources) src.diffusion *= 1600.0 / s.dt;
+       }},
+      {"particles-mixed-sources", [](Scene& s) {
+         Source a = with_position(Source{}, {1.0, 0.0, 0.0});
+         Source b = with_position(repellent(Source{}), {-1.0, 1.0, 0.0});
+         b.emission = 60;
+         b.diffusion = 0.08;
+         Source c;  // sampled position
+         c.kd = 0.5;
+         c.decay = 0.1;
+         Source d = repellent(Source{});  // sampled position
+         d.min_concentration = 0.01;
+         d.max_concentration = 50.0;
+         Source e = with_position(Source{}, {0.0, -1.5, 1.0});
+         e.emission = 150;
+         s.cues.sources = {e, d, c, b, a};
+         s.cues.random_sources.count = 2;
+         s.cues.random_sources.emission = 80;
+       }},
+      {"analytic-mixed-sources-count-modulation", [](Scene& s) {
+         s.cues.field = FieldKind::kAnalytic;
+         s.axons.growth_modulation = 0.3;
+         Source a = with_position(Source{}, {1.0, 0.0, 0.0});
+         Source b = with_position(repellent(Source{}), {-1.0, 1.0, 0.0});
+         b.kd = 3.0;
+         Source c;
+         c.decay = 0.02;
+         s.cues.sources = {c, b, a};
+         s.cues.random_sources.count = 1;
+       }},
   };
   for (const Variant& v : variants) {
     Scene s = Scene::builtin_default();
@@ -120,8 +236,19 @@ inline rc::Gen<Scene> gen_cue_scene() {
     Scene s = *gen_direct_scene();
     s.neurons.count = std::min<std::uint64_t>(s.neurons.count, 200);
     s.steps = std::min<std::uint32_t>(s.steps, 30);
-    s.guidance.model = *rc::gen::element(GuidanceModel::kDirect, GuidanceModel::kSnr, GuidanceModel::kVectorSum);
-    s.cues.field = *rc::gen::element(FieldKind::kParticles, FieldKind::kGrid, FieldKind::kAnalytic);
+    s.guidance.model = *rc::gen::element(GuidanceModel::kDirect, GuidanceModel::kSnr, GuidanceModel::kVectorSum,
+                                         GuidanceModel::kSourceVectorSum);
+    s.cues.field = *rc::gen::element(FieldKind::kParticles, FieldKind::kGrid, FieldKind::kAnalytic, FieldKind::kImposed);
+    s.guidance.noise = *rc::gen::element(NoiseForm::kBinding, NoiseForm::kSnapshot);
+    if (*rc::gen::arbitrary<bool>()) use_count_sensing(s);
+    if (*rc::gen::arbitrary<bool>()) s.axons.persistence_length.reset();
+    else s.axons.persistence_length = *rc::gen::inRange(1, 200) / 10.0;
+    if (s.guidance.model == GuidanceModel::kSnr && *rc::gen::arbitrary<bool>())
+      s.axons.growth_modulation = *rc::gen::inRange(1, 100) / 100.0;
+    // Linear only at 1 % per length unit: non-negative over any generated domain (R_b <= 12).
+    s.cues.imposed.profile = *rc::gen::element(ImposedProfile::kLinear, ImposedProfile::kExponential);
+    s.cues.imposed.steepness = s.cues.imposed.profile == ImposedProfile::kLinear ? 1.0 : *rc::gen::inRange(0, 200);
+    s.cues.imposed.reference_length = 1.0;
     s.cues.random_sources.count = *rc::gen::inRange<std::uint32_t>(1, 5);
     s.cues.random_sources.emission = *rc::gen::inRange(0, 300) / 2.0;
     s.cues.particles.motion = *rc::gen::element(Motion::kBrownian, Motion::kBallistic);

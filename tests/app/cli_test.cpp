@@ -110,6 +110,12 @@ TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
   write(tmp, "endless.json",
         R"({"cues": {"field": "grid", "sources": [{"diffusion": 1e6}], "grid": {"spacing": 0.1, "scheme": "explicit"}}})");
   write(tmp, "gridnodes.json", R"({"cues": {"field": "grid", "grid": {"spacing": 0.002}}})");
+  write(tmp, "negpersist.json", R"({"axons": {"persistence_length": -1}})");
+  write(tmp, "steepimposed.json", R"({"neurons": {"count": 100, "region": {"radius": 5}},
+      "cues": {"field": "imposed", "sources": [{"position": [0, 0, 0]}],
+               "imposed": {"profile": "linear", "steepness": 50, "reference_length": 1}}})");
+  write(tmp, "modvector.json", R"({"axons": {"growth_modulation": 0.5}, "guidance": {"model": "vector_sum"}})");
+  write(tmp, "bothlengths.json", R"({"axons": {"step_length": 0.35, "growth_speed": 1}})");
   std::string args = GetParam().args;
   for (std::size_t p; (p = args.find("{tmp}")) != std::string::npos;) args.replace(p, 5, tmp.path().string());
   const Result r = run(args, tmp);
@@ -137,12 +143,60 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"run {tmp}/hugeemission.json --out {tmp}/o", 2, "cues.sources[0].emission = 5000000000.0: must be in [0, 2147483648]"},
         BadRun{"run {tmp}/endless.json --out {tmp}/o", 2, "sub-steps per step"},
         BadRun{"run {tmp}/gridnodes.json --out {tmp}/o", 2, "nodes per axis"},
+        BadRun{"run {tmp}/negpersist.json --out {tmp}/o", 2, "axons.persistence_length = -1: must be > 0"},
+        BadRun{"scene check {tmp}/negpersist.json", 2, "axons.persistence_length = -1"},
+        BadRun{"run {tmp}/steepimposed.json --out {tmp}/o", 2, "cues.imposed.steepness = 50"},
+        BadRun{"run {tmp}/modvector.json --out {tmp}/o", 2, "axons.growth_modulation = 0.5"},
+        BadRun{"run {tmp}/bothlengths.json --out {tmp}/o", 2, "axons.step_length = 0.35 and axons.growth_speed = 1"},
         BadRun{"run --seed -3 --out {tmp}/o", 2, "--seed -3: must be an unsigned 64-bit integer"},
         BadRun{"run --seed 99999999999999999999 --out {tmp}/o", 2, "must be an unsigned 64-bit integer"},
         BadRun{"run --threads -1 --out {tmp}/o", 2, "--threads"},
         BadRun{"run --backend opencl --out {tmp}/o", 2, "--backend"},
         BadRun{"frobnicate", 2, "unknown command 'frobnicate'"}),
     [](const auto& info) { return std::to_string(info.index); });
+
+// The order in which a scene lists its sources is not part of the scene: `scene check`
+// prints the same canonical form, and `run` writes the same files, for a permutation.
+TEST(cli, PermutedSourcesAreTheSameScene) {
+  test::TempDir tmp;
+  const char* sources[] = {
+      R"({"kind": "attractant", "position": [1, 0, 0], "emission": 100})",
+      R"({"kind": "repellent", "position": [-1, 0.5, 0], "emission": 70, "kd": 1.5})",
+      R"({"kind": "attractant", "position": null, "emission": 120, "decay": 0.02})",
+      R"({"kind": "repellent", "emission": 90, "diffusion": 0.04})",
+      R"({"kind": "attractant", "position": [0, -1, 0.5], "emission": 60, "max_concentration": 40})"};
+  auto scene = [&](std::initializer_list<int> order) {
+    std::string list;
+    for (int k : order) list += fmt::format("{}{}", list.empty() ? "" : ", ", sources[k]);
+    return fmt::format(R"({{"neurons": {{"count": 150, "region": {{"radius": 2.5}}}}, "steps": 25,
+        "cues": {{"sources": [{}]}}}})",
+                       list);
+  };
+  const std::string a = write(tmp, "a.json", scene({0, 1, 2, 3, 4}));
+  const std::string b = write(tmp, "b.json", scene({3, 0, 4, 2, 1}));
+  const std::string c = write(tmp, "c.json", scene({4, 3, 2, 1, 0}));
+  const Result ca = run(fmt::format("scene check {}", a), tmp);
+  ASSERT_EQ(ca.code, 0) << ca.err;
+  EXPECT_FALSE(ca.out.empty());
+  for (const std::string& other : {b, c}) {
+    const Result r = run(fmt::format("scene check {}", other), tmp);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out, ca.out) << other;
+  }
+  ASSERT_EQ(run(fmt::format("run {} -q --out {}/a", a, tmp.path().string()), tmp).code, 0);
+  ASSERT_EQ(run(fmt::format("run {} -q --out {}/b", b, tmp.path().string()), tmp).code, 0);
+  const auto ha = test::output_hashes(tmp.path() / "a"), hb = test::output_hashes(tmp.path() / "b");
+  EXPECT_EQ(ha, hb);
+  EXPECT_TRUE(ha.count("neurons.csv"));
+  const auto ma = nlohmann::json::parse(test::read_file(tmp.path() / "a" / "manifest.json"));
+  const auto mb = nlohmann::json::parse(test::read_file(tmp.path() / "b" / "manifest.json"));
+  EXPECT_EQ(ma["scene"], mb["scene"]);
+  auto files_a = ma["files"], files_b = mb["files"];
+  files_a.erase("timings.csv");
+  files_b.erase("timings.csv");
+  EXPECT_EQ(files_a, files_b);
+  EXPECT_TRUE(files_a.contains("neurons.csv"));
+}
 
 // Not built: exit 2 "not built". Built without a usable GPU: exit 3 with the CUDA error
 // text. With a GPU: a normal run.

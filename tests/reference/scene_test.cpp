@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <fmt/format.h>
+
 #include "axonguide/error.hpp"
 #include "axonguide/scene.hpp"
+#include "support.hpp"
 
 namespace axg {
 namespace {
@@ -103,7 +106,61 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{R"({"output": {"stats_every": 0}})", "output.stats_every = 0"},
         Bad{R"({"output": {"paths": "yes"}})", R"(output.paths = "yes": must be true or false)"},
         Bad{"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
-            "nested deeper than 32 levels"}),
+            "nested deeper than 32 levels"},
+        // The guidance-model options (SPEC §3.3-§3.5).
+        Bad{R"({"axons": {"persistence_length": -1}})", "axons.persistence_length = -1: must be > 0"},
+        Bad{R"({"axons": {"persistence_length": 0}})", "axons.persistence_length = 0: must be > 0"},
+        Bad{R"({"axons": {"persistence_length": "long"}})", R"(axons.persistence_length = "long": must be a number)"},
+        Bad{R"({"guidance": {"noise": "poisson"}})",
+            R"(guidance.noise = "poisson": must be one of "binding", "snapshot")"},
+        Bad{R"({"cues": {"particles": {"sensing": "mean"}}})",
+            "cues.particles.sensing"},
+        Bad{R"({"cues": {"field": "imposed", "imposed": {"profile": "sigmoid"}}})",
+            R"(cues.imposed.profile = "sigmoid": must be one of "linear", "exponential")"},
+        Bad{R"({"cues": {"field": "fixed"}})", R"(cues.field = "fixed")"},
+        Bad{R"({"cues": {"field": "imposed", "imposed": {"direction": [0, 0, 0]}}})",
+            "cues.imposed.direction = [0,0,0]: must be a non-zero finite vector"},
+        Bad{R"({"cues": {"field": "imposed", "imposed": {"direction": [1, 0]}}})", "cues.imposed.direction"},
+        Bad{R"({"cues": {"field": "imposed", "imposed": {"steepness": -1}}})",
+            "cues.imposed.steepness = -1: must be in [0, 1000000]"},
+        Bad{R"({"cues": {"field": "imposed", "imposed": {"reference_length": 0}}})",
+            "cues.imposed.reference_length = 0: must be > 0"},
+        Bad{R"({"cues": {"field": "imposed", "imposed": {"concentration": 0}}})",
+            "cues.imposed.concentration = 0: must be > 0"},
+        Bad{R"({"cues": {"field": "imposed", "imposed": {"slope": 1}}})", "unknown key cues.imposed.slope"},
+        // 50 % per length unit falls below zero 2 length units down the gradient; the ball has radius 5.
+        Bad{R"({"neurons": {"count": 100, "region": {"radius": 5}},
+               "cues": {"field": "imposed", "sources": [{"position": [0, 0, 0]}],
+                        "imposed": {"profile": "linear", "steepness": 50, "reference_length": 1}}})",
+            "cues.imposed.steepness = 50: the linear profile"},
+        // The same with a sampled source position.
+        Bad{R"({"neurons": {"count": 100, "region": {"radius": 5}},
+               "cues": {"field": "imposed", "sources": [{}],
+                        "imposed": {"profile": "linear", "steepness": 50, "reference_length": 1}}})",
+            "cues.imposed.steepness = 50"},
+        // And in a box, whose corners reach further down the gradient than its half-edge.
+        Bad{R"({"neurons": {"count": 100, "region": {"shape": "box", "radius": 5}},
+               "cues": {"field": "imposed", "sources": [{"position": [0, 0, 0]}],
+                        "imposed": {"profile": "linear", "direction": [1, 1, 1], "steepness": 15, "reference_length": 1}}})",
+            "cues.imposed.steepness = 15"},
+        Bad{R"({"axons": {"growth_modulation": 1}})", "axons.growth_modulation = 1: must be in [0, 1)"},
+        Bad{R"({"axons": {"growth_modulation": -0.1}})", "axons.growth_modulation = -0.1: must be in [0, 1)"},
+        Bad{R"({"axons": {"growth_modulation": 0.5}, "guidance": {"model": "vector_sum"}})",
+            "axons.growth_modulation = 0.5"},
+        Bad{R"({"axons": {"growth_modulation": 0.5}, "guidance": {"model": "source_vector_sum"}})",
+            "axons.growth_modulation = 0.5"},
+        Bad{R"({"axons": {"growth_modulation": 0.5}, "guidance": {"model": "direct"}})",
+            "axons.growth_modulation = 0.5"},
+        Bad{R"({"axons": {"step_length": 0.35, "growth_speed": 0.35}})", "axons.step_length = 0.35 and axons.growth_speed"},
+        Bad{R"({"axons": {"step_length": null}})", "axons.step_length"},
+        Bad{R"({"axons": {"growth_speed": 0}})", "axons.growth_speed = 0: must be > 0"},
+        Bad{R"({"axons": {"growth_speed": -2}})", "axons.growth_speed = -2: must be > 0"},
+        Bad{R"({"dt": 1e-300, "axons": {"growth_speed": 1e-300}})", "axons.growth_speed"},
+        Bad{R"({"units": {"length": "mm"}})", R"(units.length = "mm": must be one of "LU", "um")"},
+        Bad{R"({"units": {"time": "day"}})", R"(units.time = "day")"},
+        Bad{R"({"units": {"concentration": "mM"}})", R"(units.concentration = "mM")"},
+        Bad{R"({"units": {"mass": "kg"}})", "unknown key units.mass"},
+        Bad{R"({"units": "um"})", "units"}),
     [](const auto& info) { return std::to_string(info.index); });
 
 // Any value the parser accepts must survive the canonical form unchanged.
@@ -117,6 +174,48 @@ RC_GTEST_PROP(scene, AcceptedValuesRoundTrip, ()) {
   s.axons.step_length = *rc::gen::inRange(1, 100000) / 3.0;
   const std::string text = scene_to_json(s).dump();
   RC_ASSERT(scene_to_json(parse_scene(text, "t").scene).dump() == text);
+}
+
+// The canonical form of a scene with an oblique imposed gradient reads back as the same
+// scene: the direction printed must not change when it is read (and normalised) again.
+TEST(scene, ImposedDirectionCanonicalFormIsAFixedPoint) {
+  for (const char* dir : {"[1, 1, 1]", "[-8.5, 1, -2]", "[0.3, -0.2, 0.7]", "[3, 4, 0]"}) {
+    const std::string text = fmt::format(R"({{"cues": {{"field": "imposed", "imposed": {{"direction": {}}}}}}})", dir);
+    const std::string once = scene_to_json(parse_scene(text, "t").scene).dump();
+    const std::string twice = scene_to_json(parse_scene(once, "canonical").scene).dump();
+    EXPECT_EQ(twice, once) << dir;
+  }
+}
+
+// The same for the guidance-model options, units and growth speed.
+RC_GTEST_PROP(scene, AcceptedModelOptionsRoundTrip, ()) {
+  Scene s = Scene::builtin_default();
+  s.dt = *rc::gen::inRange(1, 1000) / 8.0;
+  s.units.length = *rc::gen::element(std::string("LU"), std::string("um"));
+  s.units.time = *rc::gen::element(std::string("step"), std::string("s"), std::string("min"), std::string("h"));
+  s.units.concentration = *rc::gen::element(std::string("CU"), std::string("pM"), std::string("nM"), std::string("uM"));
+  if (*rc::gen::arbitrary<bool>()) {
+    s.axons.growth_speed = *rc::gen::inRange(1, 100000) / 7.0;
+    s.axons.step_length = *s.axons.growth_speed * s.dt;
+  }
+  if (*rc::gen::arbitrary<bool>()) s.axons.persistence_length.reset();
+  else s.axons.persistence_length = *rc::gen::inRange(1, 1000000) / 3.0;
+  s.guidance.model = *rc::gen::element(GuidanceModel::kSnr, GuidanceModel::kVectorSum, GuidanceModel::kSourceVectorSum);
+  if (s.guidance.model == GuidanceModel::kSnr) s.axons.growth_modulation = *rc::gen::inRange(0, 1000) / 1000.0;
+  s.guidance.noise = *rc::gen::element(NoiseForm::kBinding, NoiseForm::kSnapshot);
+  s.cues.field = *rc::gen::element(FieldKind::kParticles, FieldKind::kGrid, FieldKind::kAnalytic, FieldKind::kImposed);
+  if (*rc::gen::arbitrary<bool>()) test::use_count_sensing(s);
+  s.cues.imposed.profile = ImposedProfile::kExponential;
+  // Exact unit vectors (any other direction: see ImposedDirectionCanonicalFormIsAFixedPoint).
+  s.cues.imposed.direction = *rc::gen::element(core::Vec3{1, 0, 0}, core::Vec3{0, -1, 0}, core::Vec3{0, 0, 1});
+  s.cues.imposed.steepness = *rc::gen::inRange(0, 1000000);
+  s.cues.imposed.reference_length = *rc::gen::inRange(1, 1000) / 3.0;
+  s.cues.imposed.concentration = *rc::gen::inRange(1, 1000) / 9.0;
+  const std::string text = scene_to_json(s).dump();
+  const Scene back = parse_scene(text, "t").scene;
+  RC_ASSERT(scene_to_json(back).dump() == text);
+  RC_ASSERT(back.axons.step_length == s.axons.step_length);
+  RC_ASSERT(back.axons.persistence_length == s.axons.persistence_length);
 }
 
 }  // namespace

@@ -149,7 +149,23 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
          s.cues.field = FieldKind::kAnalytic;
          s.guidance.model = GuidanceModel::kSourceVectorSum;
        }},
-      {"particles-snr-growth-modulation", [](Scene& s) { s.axons.growth_modulation = 0.5; }},
+      {"particles-snr-binding-growth-modulation", [](Scene& s) {
+         s.axons.growth_modulation = 0.5;
+         s.guidance.noise = NoiseForm::kBinding;  // the split estimate
+       }},
+      {"analytic-snr-binding", [](Scene& s) {
+         s.cues.field = FieldKind::kAnalytic;
+         s.guidance.noise = NoiseForm::kBinding;
+       }},
+      {"grid-snr-snapshot", [](Scene& s) {
+         s.cues.field = FieldKind::kGrid;
+         s.guidance.noise = NoiseForm::kSnapshot;
+       }},
+      {"particles-count-warmup", [](Scene& s) { s.cues.warmup_steps = 15; }},
+      {"grid-implicit-warmup", [](Scene& s) {
+         s.cues.field = FieldKind::kGrid;
+         s.cues.warmup_steps = 10;
+       }},
       {"particles-count-growth-modulation", [](Scene& s) {
          s.axons.growth_modulation = 0.5;
          use_count_sensing(s);

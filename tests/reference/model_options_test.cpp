@@ -89,6 +89,16 @@ const std::vector<Option>& options() {
          s.axons.growth_modulation = 0.5;
          test::use_count_sensing(s);
        }},
+      {"count noise on analytic (Gaussian limit)", [](Scene& s) {
+         test::use_count_sensing(s);
+         s.cues.field = FieldKind::kAnalytic;
+       }},
+      {"warmup 12 steps, particles", [](Scene& s) { s.cues.warmup_steps = 12; }},
+      {"warmup 12 steps, explicit grid", [](Scene& s) {
+         s.cues.warmup_steps = 12;
+         s.cues.field = FieldKind::kGrid;
+         s.cues.grid.scheme = GridScheme::kExplicit;
+       }},
       {"persistence off", [](Scene& s) { s.axons.persistence_length.reset(); }},
       {"persistence 0.5", [](Scene& s) { s.axons.persistence_length = 0.5; }},
       {"persistence 0.5, direct", [](Scene& s) {

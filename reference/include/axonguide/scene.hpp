@@ -130,7 +130,7 @@ struct Scene {
     } grid;
     struct Imposed {
       ImposedProfile profile = ImposedProfile::kExponential;
-      core::Vec3 direction{1.0, 0.0, 0.0};  // up the gradient (normalised when read)
+      core::Vec3 direction{1.0, 0.0, 0.0};  // up the gradient, as written (normalised where used)
       double steepness = 0.2;                // percent change per reference_length
       double reference_length = 10.0;        // length units
       double concentration = 1.0;            // at each source's position, concentration units

@@ -69,7 +69,7 @@ void check_imposed_field(const Scene& scene, const std::vector<core::CueParams>&
   if (q.profile != ImposedProfile::kLinear) return;
   const double rate = q.steepness / 100.0 / q.reference_length;
   const double rb = scene.bounds_radius();
-  const core::Vec3 d = q.direction;
+  const core::Vec3 d = core::normalized(q.direction);
   // The lowest value of (x - p).d over the domain: -R_b |d|_1 - p.d (box) or -R_b - p.d (ball).
   const double reach = scene.neurons.shape == RegionShape::kBox ? rb * (std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z)) : rb;
   for (std::size_t k = 0; k < cues.size(); ++k) {
@@ -107,7 +107,7 @@ core::SenseParams sense_params(const Scene& scene) {
   }
   const auto& q = scene.cues.imposed;
   p.imposed.profile = q.profile;
-  p.imposed.direction = q.direction;
+  p.imposed.direction = core::normalized(q.direction);
   p.imposed.c0 = q.concentration;
   const double s = q.steepness / 100.0;
   p.imposed.rate = q.profile == ImposedProfile::kLinear ? s / q.reference_length : core::pm::log(1.0 + s) / q.reference_length;

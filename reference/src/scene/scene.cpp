@@ -73,7 +73,9 @@ class ObjectReader {
   }
 
   const json* take(const char* key) {
-    allowed_.push_back(key);
+    bool seen = false;
+    for (const char* k : allowed_) seen = seen || std::strcmp(k, key) == 0;
+    if (!seen) allowed_.push_back(key);
     auto it = j_.find(key);
     return it == j_.end() ? nullptr : &*it;
   }
@@ -259,10 +261,11 @@ void read_scene(const json& root, Scene& s) {
     ObjectReader r(*j, "axons");
     auto& a = s.axons;
     std::optional<double> step_length = a.step_length;
+    const bool step_length_given = r.take("step_length") != nullptr;
     r.optional_number("step_length", step_length, positive());
     r.optional_number("growth_speed", a.growth_speed, positive());
     if (a.growth_speed) {
-      if (r.take("step_length") && step_length)
+      if (step_length_given && step_length)
         throw InputError(fmt::format(
             "scene: axons.step_length = {} and axons.growth_speed = {} are both given: give one (the step length is "
             "growth_speed x dt)",
@@ -349,7 +352,7 @@ void read_scene(const json& root, Scene& s) {
         const core::Vec3 v = read_position(*d, "cues.imposed.direction");
         const double n = core::norm(v);
         if (!(n > 0.0) || !(n < HUGE_VAL)) fail("cues.imposed.direction", *d, "must be a non-zero finite vector [x, y, z]");
-        q.direction = v / n;
+        q.direction = v;  // as written (the canonical form reads back unchanged); normalised where used
       }
       // Up to +100 % per reference length for a linear profile, and far more for an
       // exponential one; 0 is the no-gradient control.

@@ -198,7 +198,7 @@ TEST(steering, RepellentMirrorsAttractant) {
 // The count decision turns toward the perpendicular count dipole, with no noise added.
 TEST(steering, CountDecisionTurnsTowardTheDipole) {
   SteerParams p = snr_params();
-  p.count_decision = true;
+  p.noise = NoiseForm::kCount;
   SenseParams sp = sense();
   sp.c_per_particle = 0.01;
   const CueParams cue = cue_of(1);
@@ -209,6 +209,31 @@ TEST(steering, CountDecisionTurnsTowardTheDipole) {
     EXPECT_NEAR(out.heading.y, 0.0, 1e-15);
     EXPECT_NEAR(dot(out.heading, {0, 0, 1}), p.cos_turn, 1e-12);
     EXPECT_NEAR(out.along, 7 / std::sqrt(50.0 / 5.0), 1e-12);  // n = 0.5 / 0.01 = 50 particles
+  }
+}
+
+// The count form on an exact field draws the count dipole in its Gaussian limit, so the
+// turn goes to the +x side with probability Phi(SNR_count) exactly.
+TEST(steering, ExactFieldCountDecisionIsPhiOfSnrCount) {
+  SteerParams p = snr_params();
+  p.noise = NoiseForm::kCount;
+  SenseParams sp = sense();
+  sp.field = FieldKind::kAnalytic;
+  const double a = 0.001, r = 0.5, volume = 4.0 / 3.0 * 3.141592653589793 * r * r * r;
+  sp.amount = a;
+  sp.radius = r;
+  sp.count_mean_scale = volume * r / (5.0 * a);
+  sp.count_var_scale = volume / (5.0 * a);
+  const CueParams cue = cue_of(1);
+  const int n = 40000;
+  for (double g : {0.002, 0.01, 0.03}) {
+    const CueSample s = exact_sample(0.05, {g, 0.0, 0.0});
+    int toward = 0;
+    for (int i = 0; i < n; ++i)
+      toward += snr_steer({0, 0, 1}, &s, &cue, 1, sp, p, 17, static_cast<std::uint32_t>(i), 3).heading.x > 0;
+    const double expect = gsl_cdf_ugaussian_P(snr_count(0.05, g, a, r));
+    const double sigma = std::sqrt(expect * (1 - expect) / n);
+    EXPECT_NEAR(static_cast<double>(toward) / n, expect, 4 * sigma + 1e-12) << g;
   }
 }
 

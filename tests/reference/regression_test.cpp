@@ -28,12 +28,12 @@ TEST(regression, PinnedSceneHashes) {
   // Printed so that an intended change can be pinned by copying these lines.
   for (const auto& [name, hash] : h) std::printf("      {\"%s\", \"%s\"},\n", name.c_str(), hash.c_str());
   const std::map<std::string, std::string> expected{
-    {"bfs.csv", "646976c0ecc287f7f7de0e4f098bbe6b6cd6d777af4a7a19ab3a0eac54a9580f"},
-    {"connections.csv", "6a0665fabb14479ad7dc158f5033eb20ac2e2496bfc9d7af0bb850a513ae8f4e"},
-    {"graph.graphml", "e1083cc7ffaf31d5f1df8d9e4e19c5e6bad1e0564864e1a0290136c33d3beb21"},
-    {"neurons.csv", "f426596da840900645a88ee1d1072ef3ea517a88c0533e4242a85e3103bd216d"},
-    {"paths.csv", "a1af64c07218495d1fac30700daec5e90e75865777516a7f20fde0a6eeeb20b7"},
-    {"stats.csv", "e045cc27ab43097ce8c027e72ce26a7e2b5d55580ddd7010cf6fa322d9378e33"},
+    {"bfs.csv", "e60bc41c3f81aae41a435e94326f4fca3260a150d7f57c10ef257add903dea51"},
+    {"connections.csv", "c325556b8a3d33b4bcbbbd779b7a180317e2fc74bc2d8623d0ec7850a47abf85"},
+    {"graph.graphml", "f9f2729976b74434a6e6e4cdebc63a8a81c6ff375ba987322df91bec749685a9"},
+    {"neurons.csv", "1c9176a9d7d913f95298fa6d1c4d5ab9130322cbe8a024a366d55111470e31f3"},
+    {"paths.csv", "50f1a6d7117ea0663c5eea70808739ce6ea629777a1f4d9082d9dd5f09bcc300"},
+    {"stats.csv", "e069e759166f1577ac3aca9c44e5c272cb2b30c86e39638dd3fb98ccfabf236a"},
   };
   EXPECT_EQ(h, expected);
 }

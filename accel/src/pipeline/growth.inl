@@ -83,9 +83,9 @@ struct Grow {
     const std::uint32_t k = d_active[a];
     const std::uint32_t id = d_ids[k];
     const double l = d_step_length ? d_step_length[k] : params.step_length;
-    const Vec3 h = core::wander(d_heading[k], l, d_step_length == nullptr, wander, seed, id, step);
-    d_heading[k] = h;
+    const Vec3 h = d_heading[k];
     const core::AxonStep s = core::grow_axon(id, d_tip[k], h, l, params, somas);
+    d_heading[k] = core::wander(h, l, d_step_length == nullptr, wander, seed, id, step);
     d_tip[k] = s.tip;
     d_length[k] = d_length[k] + s.advanced;
     d_steps[k] = step;

@@ -138,8 +138,8 @@ class ReferenceEngine final : public Engine {
     });
   }
 
-  // Stages 3-4: the heading's random walk, then move every growing tip and test contact
-  // and bounds.
+  // Stages 3-5: move every growing tip, test contact and bounds, then the heading's
+  // random walk.
   void grow(std::uint32_t step) {
     const core::CellGridView somas = somas_.view();
     struct Counts {
@@ -152,8 +152,11 @@ class ReferenceEngine final : public Engine {
             const std::uint32_t k = active_[a];
             const std::uint32_t id = somas_.ids[k];
             const double l = modulated_ ? step_length_[k] : params_.step_length;
-            heading_[k] = core::wander(heading_[k], l, !modulated_, wander_, scene_.seed, id, step);
-            const core::AxonStep s = core::grow_axon(id, state_.tip[k], heading_[k], l, params_, somas);
+            const core::Vec3 h = heading_[k];
+            const core::AxonStep s = core::grow_axon(id, state_.tip[k], h, l, params_, somas);
+            // The heading's random walk for the next step (independent of the move, so the
+            // two overlap in the pipeline).
+            heading_[k] = core::wander(h, l, !modulated_, wander_, scene_.seed, id, step);
             state_.tip[k] = s.tip;
             state_.length[k] += s.advanced;
             state_.steps[k] = step;

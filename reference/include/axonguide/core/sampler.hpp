@@ -142,17 +142,43 @@ AXG_HDI void direction_normal_nd(R& rng, int d, double* out) {
   }
 }
 
-// A uniform unit vector perpendicular to the unit vector h: a uniform direction (trig
-// sampler) projected onto the plane of h and normalised, redrawn in the rare case that it
-// is nearly parallel to h. By symmetry its azimuth about h is uniform.
+// A uniform point of the open unit disc, as (x, y) with s = x^2 + y^2 in (0, 1): two 32-bit
+// words per try, (2k + 1) / 2^32 - 1 for word k (exact, symmetric about 0), rejected
+// outside the disc or at its centre (the acceptance is pi/4).
+template <class R>
+AXG_HDI void unit_disc(R& rng, double* x, double* y, double* s) {
+  for (;;) {
+    *x = static_cast<double>(rng.word32()) * 0x1p-31 + (0x1p-32 - 1.0);
+    *y = static_cast<double>(rng.word32()) * 0x1p-31 + (0x1p-32 - 1.0);
+    *s = *x * *x + *y * *y;
+    if (*s < 1.0 && *s > 0.0) return;
+  }
+}
+
+// c h + sn u for a uniform unit vector u perpendicular to the unit vector h: the turn of a
+// unit heading by the angle whose cosine and sine are (c, sn) about a uniformly random
+// axis perpendicular to it. u = (x e1 + y e2) / sqrt(s) for a uniform point (x, y) of the
+// unit disc, so its azimuth about h is uniform; (e1, e2) is the branch-free orthonormal
+// basis of Duff et al. 2017 ("Building an orthonormal basis, revisited", JCGT 6(1)),
+// written as E1 / d and E2 / d with d = sign(h_z) + h_z so that the whole turn takes one
+// square root and one division.
+template <class R>
+AXG_HDI Vec3 random_turn(Vec3 h, double c, double sn, R& rng) {
+  const double sign = h.z >= 0.0 ? 1.0 : -1.0;
+  const double d = sign + h.z;  // |d| >= 1
+  const double xy = h.x * h.y;
+  const Vec3 e1{d - sign * h.x * h.x, -sign * xy, -sign * h.x * d};
+  const Vec3 e2{-xy, sign * d - h.y * h.y, -h.y * d};
+  double x, y, s;
+  unit_disc(rng, &x, &y, &s);
+  const double q = sn / (d * std::sqrt(s));
+  return c * h + (q * x) * e1 + (q * y) * e2;
+}
+
+// A uniform unit vector perpendicular to the unit vector h (random_turn by a right angle).
 template <class R>
 AXG_HDI Vec3 perpendicular_direction(Vec3 h, R& rng) {
-  for (;;) {
-    const Vec3 v = direction_trig(rng);
-    const Vec3 perp = v - dot(h, v) * h;
-    const double n2 = norm2(perp);
-    if (n2 > 1e-6) return perp / std::sqrt(n2);
-  }
+  return random_turn(h, 0.0, 1.0, rng);
 }
 
 }  // namespace axg::core

@@ -34,7 +34,9 @@ AXG_HDI Vec3 wander(Vec3 h, double l, bool fixed, const WanderParams& w, std::ui
     s = std::sqrt(1.0 - c * c);
   }
   Rng rng(seed, Stream::kWander, neuron, step);
-  return normalized(c * h + s * perpendicular_direction(h, rng));
+  // |c h + s u| = 1 up to rounding; no renormalisation (the drift is a random walk of
+  // one rounding error per step).
+  return random_turn(h, c, s, rng);
 }
 
 }  // namespace axg::core

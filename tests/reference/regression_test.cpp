@@ -28,12 +28,12 @@ TEST(regression, PinnedSceneHashes) {
   // Printed so that an intended change can be pinned by copying these lines.
   for (const auto& [name, hash] : h) std::printf("      {\"%s\", \"%s\"},\n", name.c_str(), hash.c_str());
   const std::map<std::string, std::string> expected{
-    {"bfs.csv", "e60bc41c3f81aae41a435e94326f4fca3260a150d7f57c10ef257add903dea51"},
-    {"connections.csv", "c325556b8a3d33b4bcbbbd779b7a180317e2fc74bc2d8623d0ec7850a47abf85"},
-    {"graph.graphml", "f9f2729976b74434a6e6e4cdebc63a8a81c6ff375ba987322df91bec749685a9"},
-    {"neurons.csv", "1c9176a9d7d913f95298fa6d1c4d5ab9130322cbe8a024a366d55111470e31f3"},
-    {"paths.csv", "50f1a6d7117ea0663c5eea70808739ce6ea629777a1f4d9082d9dd5f09bcc300"},
-    {"stats.csv", "e069e759166f1577ac3aca9c44e5c272cb2b30c86e39638dd3fb98ccfabf236a"},
+    {"bfs.csv", "a60a6a7d7f971e1098d4a88254af21753e21251eed38ecb31f599c114148a65d"},
+    {"connections.csv", "b846390ab7063364e8618a9b91c42aecfe6f91bd059e7290483b6bed0bd1625a"},
+    {"graph.graphml", "a63df5751b761ce009b579f690fc224fc5a6297fd61361a689538596b21a5c15"},
+    {"neurons.csv", "4c2293818316bad8881c370a56db4a0ccea9ba6abbffa89e09ca32e21e211c64"},
+    {"paths.csv", "05b2abf8bc24a7843e22ee8de248ad20d5f97ce1b89ce0cfd8130c6f89cdd992"},
+    {"stats.csv", "d2dcc21500b14718cf48e35c25f6ab3cd539c76dec1e681b47a8180e94f1065b"},
   };
   EXPECT_EQ(h, expected);
 }

@@ -67,9 +67,11 @@ std::vector<core::CueParams> make_cues(const Scene& scene) {
 void check_imposed_field(const Scene& scene, const std::vector<core::CueParams>& cues) {
   const auto& q = scene.cues.imposed;
   if (q.profile != ImposedProfile::kLinear) return;
-  const double rate = q.steepness / 100.0 / q.reference_length;
+  // The profile exactly as the growth cones will sense it.
+  const core::ImposedParams p = sense_params(scene).imposed;
+  const double rate = p.rate;
   const double rb = scene.bounds_radius();
-  const core::Vec3 d = core::normalized(q.direction);
+  const core::Vec3 d = p.direction;
   // The lowest value of (x - p).d over the domain: -R_b |d|_1 - p.d (box) or -R_b - p.d (ball).
   const double reach = scene.neurons.shape == RegionShape::kBox ? rb * (std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z)) : rb;
   for (std::size_t k = 0; k < cues.size(); ++k) {

@@ -49,6 +49,16 @@ struct GoldenArgs {
 int cmd_golden(const GoldenArgs& args);
 
 int cmd_view(const std::string& dir);
+int cmd_assay(const std::string& dir);
+
+struct SweepArgs {
+  std::string spec_path;
+  std::string out_dir;
+  int threads = 0;
+  std::string backend = "reference";
+  bool quiet = false;
+};
+int cmd_sweep(const SweepArgs& args);
 int cmd_plot(const std::string& dir);
 
 }  // namespace axg::app

@@ -78,6 +78,19 @@ int dispatch(int argc, char** argv) {
   auto* plot_cmd = app.add_subcommand("plot", "Write PNG plots of a run into DIR (matplotlib)");
   plot_cmd->add_option("dir", plot_dir, "Output directory of a run")->required();
 
+  std::string assay_dir;
+  auto* assay_cmd = app.add_subcommand("assay", "Measure an explant or target assay of a run: DIR/assay.csv and plots");
+  assay_cmd->add_option("dir", assay_dir, "Output directory of a run")->required();
+
+  SweepArgs sweep;
+  auto* sweep_cmd = app.add_subcommand("sweep", "Run a parameter sweep: sweep.csv, summary.csv (mean and 95% CI)");
+  sweep_cmd->add_option("sweep", sweep.spec_path, "Sweep JSON file")->required();
+  sweep_cmd->add_option("--out", sweep.out_dir, "Output directory")->required();
+  sweep_cmd->add_option("--threads", sweep.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  sweep_cmd->add_option("--backend", sweep.backend, "reference or cuda")
+      ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
+  sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No summary or progress");
+
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;
@@ -105,6 +118,8 @@ int dispatch(int argc, char** argv) {
   if (bench_cmd->parsed()) return cmd_bench(bench);
   if (val_cmd->parsed()) return cmd_validate(val);
   if (view_cmd->parsed()) return cmd_view(view_dir);
+  if (assay_cmd->parsed()) return cmd_assay(assay_dir);
+  if (sweep_cmd->parsed()) return cmd_sweep(sweep);
   if (plot_cmd->parsed()) return cmd_plot(plot_dir);
   if (gold_cmd->parsed()) {
     if (gold.action == "bless" && gold.reason.empty())

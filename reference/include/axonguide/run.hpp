@@ -69,4 +69,7 @@ OutputInfo write_outputs(const RunResult& result, const std::filesystem::path& d
                          const std::string& backend_name, int threads,
                          const std::vector<std::string>& warnings);
 
+// The bytes of connections.csv (sweeps hash them without writing the file).
+std::string connections_csv(const RunResult& result);
+
 }  // namespace axg

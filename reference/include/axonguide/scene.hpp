@@ -66,6 +66,14 @@ struct RandomSources {
   double kd = 1.0;
 };
 
+// A ball of somas inside the region (an explant, a target tissue); populations take
+// consecutive neuron ids in the order listed (SPEC §3.1).
+struct Population {
+  std::uint64_t count = 1;
+  core::Vec3 center{0.0, 0.0, 0.0};
+  double radius = 1.0;
+};
+
 struct Scene {
   std::uint64_t seed = 1;
   std::uint32_t steps = 100;
@@ -80,6 +88,16 @@ struct Scene {
     Sampler sampler = Sampler::kRejection;
     bool overlap_reject = true;
     std::uint32_t max_attempts = 1000;
+    // Empty: one population filling the region. Otherwise count is their sum and each
+    // neuron is drawn in its population's ball (the region still bounds the axons).
+    std::vector<Population> populations;
+    // The population of neuron `id` (0 without populations).
+    std::size_t population_of(std::uint64_t id) const {
+      std::uint64_t end = 0;
+      for (std::size_t p = 0; p < populations.size(); ++p)
+        if (id < (end += populations[p].count)) return p;
+      return 0;
+    }
   } neurons;
 
   struct Axons {

@@ -43,8 +43,8 @@ class CsvWriter {
 
 // Formats rows [0, n) in parallel chunks and writes them in order: the bytes are those of
 // a sequential loop. row(i, buffer) appends row i.
-template <class RowFn>
-void write_rows(AtomicFile& f, std::size_t n, RowFn row) {
+template <class Sink, class RowFn>
+void write_rows(Sink& f, std::size_t n, RowFn row) {
   constexpr std::size_t kRows = 8192, kBatch = 32;
   std::vector<fmt::memory_buffer> chunks(kBatch);
   for (std::size_t first = 0; first < n; first += kRows * kBatch) {
@@ -71,7 +71,8 @@ void write_neurons(const RunResult& r, AtomicFile& f) {
   });
 }
 
-void write_connections(const RunResult& r, AtomicFile& f) {
+template <class Sink>
+void write_connections_to(const RunResult& r, Sink& f) {
   f.write("source,target,step,length\n");
   const auto& n = r.neurons;
   write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
@@ -79,6 +80,13 @@ void write_connections(const RunResult& r, AtomicFile& f) {
       fmt::format_to(std::back_inserter(b), "{},{},{},{}\n", i, n.target[i], n.steps[i], n.length[i]);
   });
 }
+
+void write_connections(const RunResult& r, AtomicFile& f) { write_connections_to(r, f); }
+
+struct StringSink {
+  std::string text;
+  void write(std::string_view s) { text.append(s); }
+};
 
 void write_stats(const RunResult& r, AtomicFile& f) {
   CsvWriter w(f);
@@ -153,6 +161,12 @@ std::string utc_now() {
 }
 
 }  // namespace
+
+std::string connections_csv(const RunResult& r) {
+  StringSink sink;
+  write_connections_to(r, sink);
+  return std::move(sink.text);
+}
 
 OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::string& backend_name,
                          int threads, const std::vector<std::string>& warnings) {

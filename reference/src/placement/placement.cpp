@@ -1,5 +1,6 @@
 #include "axonguide/placement.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -16,6 +17,14 @@ using core::Stream;
 using core::Vec3;
 
 double packing_fraction(const Scene::Neurons& n) {
+  if (!n.populations.empty()) {  // the densest population's volume fraction
+    double phi = 0.0;
+    for (const Population& p : n.populations) {
+      const double r = n.soma_radius / p.radius;
+      phi = std::max(phi, static_cast<double>(p.count) * r * r * r);
+    }
+    return phi;
+  }
   const double count = static_cast<double>(n.count);
   const double r = n.soma_radius, R = n.radius;
   switch (n.shape) {
@@ -28,7 +37,10 @@ double packing_fraction(const Scene::Neurons& n) {
 
 Vec3 soma_draw(const Scene& scene, std::uint64_t id, std::uint32_t attempt) {
   Rng rng(scene.seed, Stream::kPlacement, id, attempt);
-  return sample_region_point(scene.neurons.shape, scene.neurons.radius, scene.neurons.sampler, rng);
+  const auto& nn = scene.neurons;
+  if (nn.populations.empty()) return sample_region_point(nn.shape, nn.radius, nn.sampler, rng);
+  const Population& p = nn.populations[nn.population_of(id)];
+  return p.center + sample_region_point(RegionShape::kBall, p.radius, nn.sampler, rng);
 }
 
 Vec3 heading_draw(const Scene& scene, std::uint64_t id) {

@@ -254,6 +254,29 @@ void read_scene(const json& root, Scene& s) {
                                     {"trig", Sampler::kTrig}, {"coordinate", Sampler::kCoordinate}});
     r.choice("overlap", n.overlap_reject, {{"reject", true}, {"allow", false}});
     r.integer("max_attempts", n.max_attempts, 1, 1000000000);
+    if (const json* pops = r.take("populations")) {
+      if (!pops->is_array() || pops->empty() || pops->size() > 64)
+        fail("neurons.populations", *pops, "must be an array of 1 to 64 objects {count, center, radius}");
+      std::uint64_t total = 0;
+      for (std::size_t k = 0; k < pops->size(); ++k) {
+        const std::string path = fmt::format("neurons.populations[{}]", k);
+        ObjectReader pr((*pops)[k], path);
+        Population p;
+        pr.integer("count", p.count, 1, std::uint64_t{1} << 53);
+        if (const json* c = pr.take("center")) p.center = read_position(*c, pr.path("center"));
+        pr.number("radius", p.radius, positive());
+        pr.finish();
+        total += p.count;
+        n.populations.push_back(p);
+      }
+      if (total > (std::uint64_t{1} << 53))
+        fail("neurons.populations", *pops, "the counts must sum to at most 2^53");
+      if (r.take("count") && n.count != total)
+        throw InputError(fmt::format(
+            "scene: neurons.count = {} but neurons.populations sum to {}: give one, or make them agree", n.count,
+            total));
+      n.count = total;
+    }
     r.finish();
   }
 
@@ -395,6 +418,25 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
     throw InputError(fmt::format(
         "scene: neurons.soma_radius = {} is not below neurons.region.radius = {}: somas must fit in the region",
         n.soma_radius, n.radius));
+  if (!n.populations.empty() && n.shape == RegionShape::kSphere)
+    throw InputError("scene: neurons.populations need neurons.region.shape \"ball\" or \"box\" (populations are balls "
+                     "inside the region; it is \"sphere\")");
+  for (std::size_t k = 0; k < n.populations.size(); ++k) {
+    const Population& p = n.populations[k];
+    const core::Vec3 c = p.center;
+    const double reach = n.shape == RegionShape::kBox
+                             ? std::max({std::fabs(c.x), std::fabs(c.y), std::fabs(c.z)}) + p.radius
+                             : std::sqrt(core::norm2(c)) + p.radius;
+    if (reach > n.radius)
+      throw InputError(fmt::format(
+          "scene: neurons.populations[{}]: the ball of radius {} at [{}, {}, {}] reaches {} from the origin, outside "
+          "neurons.region.radius = {}: populations must lie inside the region",
+          k, p.radius, c.x, c.y, c.z, reach, n.radius));
+    if (n.soma_radius >= p.radius)
+      throw InputError(fmt::format(
+          "scene: neurons.populations[{}].radius = {} is not above neurons.soma_radius = {}", k, p.radius,
+          n.soma_radius));
+  }
   for (std::size_t k = 0; k < s.analysis.bfs_sources.size(); ++k)
     if (s.analysis.bfs_sources[k] >= n.count)
       throw InputError(fmt::format(
@@ -579,6 +621,13 @@ json scene_to_json(const Scene& s) {
                   {"sampler", name_of(n.sampler)},
                   {"overlap", n.overlap_reject ? "reject" : "allow"},
                   {"max_attempts", n.max_attempts}};
+  if (!n.populations.empty()) {  // written only when given, so that older scenes keep their bytes
+    json pops = json::array();
+    for (const Population& p : n.populations)
+      pops.push_back({{"count", p.count}, {"center", json::array({p.center.x, p.center.y, p.center.z})},
+                      {"radius", p.radius}});
+    j["neurons"]["populations"] = pops;
+  }
   const auto& a = s.axons;
   j["axons"] = {{"step_length", a.growth_speed ? json(nullptr) : json(a.step_length)},
                 {"growth_speed", a.growth_speed ? json(*a.growth_speed) : json(nullptr)},

@@ -1,0 +1,209 @@
+// axonguide assay DIR, axonguide sweep SWEEP.json --out DIR (docs/methods.md §12).
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "axonguide/assay.hpp"
+#include "axonguide/cue_setup.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
+#include "axonguide/sweep.hpp"
+#include "axonguide/threads.hpp"
+#include "axonguide/validate/report.hpp"
+#include "backend.hpp"
+#include "commands.hpp"
+
+namespace axg::app {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string read_file(const fs::path& p, const char* what) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot read {}", what, p.string()));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : line) {
+    if (c == ',') {
+      out.push_back(cur);
+      cur.clear();
+    } else if (c != '\r') {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+double number(const std::string& s, const std::string& where) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty()) throw InputError(fmt::format("{}: \"{}\" is not a number", where, s));
+  return v;
+}
+
+}  // namespace
+
+int cmd_assay(const std::string& dir_name) {
+  const fs::path dir(dir_name);
+  if (!fs::is_directory(dir)) throw InputError(fmt::format("assay: {} is not a directory", dir_name));
+  const std::string manifest_text = read_file(dir / "manifest.json", "assay");
+  json manifest;
+  try {
+    manifest = json::parse(manifest_text);
+  } catch (const json::exception& e) {
+    throw InputError(fmt::format("assay: {}/manifest.json is not valid JSON ({})", dir_name, e.what()));
+  }
+  const std::string neurons_text = read_file(dir / "neurons.csv", "assay");
+  std::string expected;
+  try {
+    expected = manifest.at("files").at("neurons.csv").at("sha256").get<std::string>();
+  } catch (const json::exception&) {
+    throw InputError(fmt::format("assay: {}/manifest.json does not list neurons.csv", dir_name));
+  }
+  if (sha256_hex(neurons_text) != expected)
+    throw InputError(fmt::format(
+        "assay: {}/neurons.csv does not match its manifest (SHA-256 differs): the folder is not one complete run",
+        dir_name));
+  const Scene scene = parse_scene(manifest.at("scene").dump(), dir_name + "/manifest.json scene").scene;
+
+  std::vector<core::Vec3> soma(scene.neurons.count);
+  NeuronState n;
+  n.resize(scene.neurons.count);
+  std::istringstream lines(neurons_text);
+  std::string line;
+  std::getline(lines, line);
+  std::size_t row = 1;
+  while (std::getline(lines, line)) {
+    ++row;
+    const auto f = split(line);
+    const std::string where = fmt::format("assay: neurons.csv line {}", row);
+    if (f.size() != 12) throw InputError(fmt::format("{}: {} fields, expected 12", where, f.size()));
+    const auto id = static_cast<std::size_t>(number(f[0], where));
+    if (id >= soma.size()) throw InputError(fmt::format("{}: id {} is not below the scene's count", where, id));
+    soma[id] = {number(f[1], where), number(f[2], where), number(f[3], where)};
+    n.status[id] = f[5] == "connected" ? core::AxonStatus::kConnected
+                   : f[5] == "exited"  ? core::AxonStatus::kExited
+                   : f[5] == "growing" ? core::AxonStatus::kGrowing
+                                       : core::AxonStatus::kMaxSteps;
+    n.tip[id] = {number(f[6], where), number(f[7], where), number(f[8], where)};
+    n.length[id] = number(f[9], where);
+    n.steps[id] = static_cast<std::uint32_t>(number(f[10], where));
+    const double t = number(f[11], where);
+    n.target[id] = t < 0 ? core::kNoNeuron : static_cast<std::uint32_t>(t);
+  }
+  const auto cues = scene.uses_cues() ? make_cues(scene) : std::vector<core::CueParams>{};
+  const assay::Metrics m = assay::measure(scene, soma, n, cues);
+
+  std::string text = "metric,value,ci_low,ci_high\n";
+  auto num = [](double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); };
+  const double z = 1.959963984540054;
+  for (const auto& [name, value] : assay::scalar_metrics(m)) {
+    double lo = NAN, hi = NAN;
+    if (name == "bias") lo = value - z * m.bias_se, hi = value + z * m.bias_se;
+    if (name == "guidance_ratio") lo = value - z * m.guidance_ratio_se, hi = value + z * m.guidance_ratio_se;
+    if (name == "mean_turning_deg") lo = value - z * m.turning_se_deg, hi = value + z * m.turning_se_deg;
+    const double explant = static_cast<double>(scene.neurons.populations.empty() ? scene.neurons.count
+                                                                                 : scene.neurons.populations[0].count);
+    if ((name == "connected_fraction" || name == "exited_fraction" || name == "target_fraction") &&
+        std::isfinite(value))
+      std::tie(lo, hi) = assay::wilson_interval(std::round(value * explant), explant);
+    if (name == "crossing_fraction" && std::isfinite(value))
+      std::tie(lo, hi) = assay::wilson_interval(std::round(value * m.crossing_axons), m.crossing_axons);
+    text += fmt::format("{},{},{},{}\n", name, num(value), num(lo), num(hi));
+  }
+  AtomicFile a(dir, "assay.csv");
+  a.write(text);
+  a.commit();
+  std::string prof = "theta_deg,outgrowth,axons\n";
+  for (int j = 0; j < assay::kAngleBins; ++j)
+    prof += fmt::format("{},{},{}\n", (j + 0.5) * 360.0 / assay::kAngleBins, m.profile[j], m.profile_axons[j]);
+  AtomicFile p(dir, "assay_profile.csv");
+  p.write(prof);
+  p.commit();
+  std::string turn = "from_deg,to_deg,axons\n";
+  for (int k = 0; k < assay::kTurningBins; ++k)
+    turn += fmt::format("{},{},{}\n", -180 + k * 360 / assay::kTurningBins, -180 + (k + 1) * 360 / assay::kTurningBins,
+                        m.turning[k]);
+  AtomicFile t(dir, "assay_turning.csv");
+  t.write(turn);
+  t.commit();
+
+  fmt::print("assay     {} explant axons that grew; gradient axis up = ({:.3f}, {:.3f}, {:.3f})\n", m.axons,
+             assay::explant_geometry(scene, cues).up.x, assay::explant_geometry(scene, cues).up.y,
+             assay::explant_geometry(scene, cues).up.z);
+  fmt::print("          directional bias {:.4f} ± {:.4f} (95% CI), guidance ratio {:.4f} ± {:.4f}\n", m.bias,
+             z * m.bias_se, m.guidance_ratio, z * m.guidance_ratio_se);
+  fmt::print("          mean turning angle {:.2f}° ± {:.2f}°, mean outgrowth {:.4g} {}\n", m.mean_turning_deg,
+             z * m.turning_se_deg, m.mean_outgrowth, scene.units.length);
+  if (std::isfinite(m.target_fraction))
+    fmt::print("          reached the target population {:.4f}, crossed the midplane {:.4f}\n", m.target_fraction,
+               m.crossing_fraction);
+  const std::string& python = validate::plotting_python();
+  if (python.empty()) {
+    std::fprintf(stderr, "axonguide: assay: no python3 with matplotlib; assay.png not drawn\n");
+  } else {
+    const fs::path script = validate::plots_dir() / "assay_run.py";
+    const int rc = std::system(fmt::format("'{}' '{}' '{}' >/dev/null 2>&1", python, script.string(), dir.string()).c_str());
+    if (rc != 0) std::fprintf(stderr, "axonguide: assay: %s failed; assay.png not drawn\n", script.string().c_str());
+  }
+  fmt::print("outputs   {}/assay.csv, assay_profile.csv, assay_turning.csv{}\n", dir_name,
+             python.empty() ? "" : ", assay.png");
+  return kExitOk;
+}
+
+int cmd_sweep(const SweepArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const sweep::Spec spec = sweep::load_spec(args.spec_path);
+  sweep::Options options;
+  options.threads = resolve_threads(args.threads);
+  options.run.make_engine = engine_factory(args.backend);
+  const bool tty = ::isatty(STDERR_FILENO) == 1 && !args.quiet;
+  auto last = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  options.on_member = [&](std::size_t done, std::size_t total, std::size_t failed, std::size_t skipped) {
+    if (!tty) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (done != total && now - last < std::chrono::milliseconds(200)) return;
+    last = now;
+    const double el = std::chrono::duration<double>(now - t0).count();
+    std::fprintf(stderr, "\r\033[Ksweep %zu/%zu members  failed %zu  reused %zu  %.1f s", done, total, failed, skipped,
+                 el);
+    if (done == total) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+  const sweep::Outcome out = sweep::run(spec, args.out_dir, options);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!args.quiet) {
+    fmt::print("sweep     {}: {} points x {} seeds = {} members on {} threads\n", args.spec_path,
+               sweep::point_count(spec), spec.seeds.size(), out.members.size(), options.threads);
+    fmt::print("          ran {}, reused {} verified records, failed {}; {:.2f} s\n",
+               out.members.size() - out.skipped, out.skipped, out.failed, wall);
+    for (const auto& r : out.members)
+      if (!r.ok)
+        fmt::print("          member {} failed (exit {}): {}\n", r.member, r.exit_code, r.message);
+    fmt::print("outputs   {}/sweep.csv, summary.csv, sweep.json, members/\n", args.out_dir);
+  }
+  return out.failed > 0 ? kExitCheckFailed : kExitOk;
+}
+
+}  // namespace axg::app

@@ -1,0 +1,482 @@
+#include "axonguide/sweep.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <gsl/gsl_cdf.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "axonguide/assay.hpp"
+#include "axonguide/core/pmath.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
+#include "axonguide/version.hpp"
+
+namespace axg::sweep {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+[[noreturn]] void bad(const std::string& origin, const std::string& what) {
+  throw InputError(fmt::format("sweep {}: {}", origin, what));
+}
+
+std::vector<std::string> split_path(const std::string& key) {
+  std::vector<std::string> parts;
+  std::string cur;
+  for (char c : key) {
+    if (c == '.') {
+      parts.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  parts.push_back(cur);
+  return parts;
+}
+
+bool is_index(const std::string& s) {
+  if (s.empty() || s.size() > 9) return false;
+  for (char c : s)
+    if (c < '0' || c > '9') return false;
+  return true;
+}
+
+// Sets key (dotted, "*" for every array element) to value in j, creating objects on the way.
+void set_path(json& j, const std::vector<std::string>& parts, std::size_t at, const json& value,
+              const std::string& key) {
+  if (at == parts.size()) {
+    j = value;
+    return;
+  }
+  const std::string& p = parts[at];
+  if (p == "*") {
+    if (!j.is_array() || j.empty())
+      throw InputError(fmt::format("sweep: key {}: \"*\" needs a non-empty array in the base scene", key));
+    for (auto& e : j) set_path(e, parts, at + 1, value, key);
+    return;
+  }
+  if (j.is_array()) {
+    if (!is_index(p) || std::stoul(p) >= j.size())
+      throw InputError(fmt::format("sweep: key {}: \"{}\" must index the base scene's array of {} (0 to {})", key, p,
+                                   j.size(), j.size() - 1));
+    set_path(j[std::stoul(p)], parts, at + 1, value, key);
+    return;
+  }
+  if (j.is_null()) j = json::object();
+  if (!j.is_object())
+    throw InputError(fmt::format("sweep: key {}: \"{}\" descends into a value that is not an object", key, p));
+  set_path(j[p], parts, at + 1, value, key);
+}
+
+std::vector<json> read_values(const json& v, const std::string& origin, const std::string& path) {
+  std::vector<json> out;
+  if (v.contains("values")) {
+    const json& vals = v["values"];
+    if (!vals.is_array() || vals.empty()) bad(origin, path + ".values must be a non-empty array");
+    for (const auto& x : vals) out.push_back(x);
+    return out;
+  }
+  for (const char* kind : {"log", "linear"}) {
+    if (!v.contains(kind)) continue;
+    const json& r = v[kind];
+    if (!r.is_object() || !r.contains("from") || !r.contains("to") || !r.contains("count") ||
+        !r["from"].is_number() || !r["to"].is_number() || !r["count"].is_number_unsigned())
+      bad(origin, fmt::format("{}.{} must be {{\"from\": number, \"to\": number, \"count\": integer >= 1}}", path, kind));
+    const double a = r["from"].get<double>(), b = r["to"].get<double>();
+    const std::uint64_t n = r["count"].get<std::uint64_t>();
+    if (n < 1 || n > 100000) bad(origin, path + "." + kind + ".count must be in [1, 100000]");
+    const bool log = std::string(kind) == "log";
+    if (log && !(a > 0 && b > 0)) bad(origin, path + ".log: from and to must be > 0");
+    // Portable log/exp: the same grid on every machine.
+    const double la = log ? core::pm::log(a) : a, lb = log ? core::pm::log(b) : b;
+    for (std::uint64_t k = 0; k < n; ++k) {
+      const double t = n == 1 ? 0.0 : static_cast<double>(k) / static_cast<double>(n - 1);
+      double x = k + 1 == n ? lb : la + (lb - la) * t;
+      x = log ? (k == 0 ? a : (k + 1 == n ? b : core::pm::exp(x))) : (k + 1 == n ? b : x);
+      out.push_back(x);
+    }
+    return out;
+  }
+  bad(origin, path + " needs \"values\": [...], \"log\": {from, to, count} or \"linear\": {from, to, count}");
+}
+
+std::string cell(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
+
+std::string csv_quote(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"') out += '"';
+    out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + "\"";
+}
+
+std::string value_text(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+
+json record_json(const MemberResult& r, std::uint64_t seed) {
+  json metrics = json::object();
+  for (const auto& [name, value] : r.metrics) metrics[name] = std::isfinite(value) ? json(value) : json(nullptr);
+  json j = {{"member", r.member},         {"seed", seed},
+            {"version", kVersion},        {"scene_sha256", r.scene_sha256},
+            {"status", r.ok ? "ok" : "failed"}, {"exit_code", r.exit_code},
+            {"message", r.message},       {"metrics", metrics},
+            {"connections_sha256", r.connections_sha256}};
+  return j;
+}
+
+bool run_folder_verifies(const fs::path& dir) {
+  std::ifstream in(dir / "manifest.json");
+  if (!in) return false;
+  try {
+    const json m = json::parse(in);
+    for (const auto& [name, entry] : m.at("files").items())
+      if (name != "timings.csv" && sha256_file(dir / name) != entry.at("sha256").get<std::string>()) return false;
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder) {
+  if (!j.is_object()) bad(origin, "must be a JSON object {scene, parameters, seeds, outputs}");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "scene" && it.key() != "parameters" && it.key() != "seeds" && it.key() != "mode" &&
+        it.key() != "outputs" && it.key() != "description")
+      bad(origin, fmt::format("unknown key {} (allowed: scene, parameters, mode, seeds, outputs, description)", it.key()));
+  Spec s;
+  if (!j.contains("scene")) bad(origin, "needs \"scene\": a scene file path or an inline scene object");
+  const json& scene = j["scene"];
+  if (scene.is_string()) {
+    fs::path p = scene.get<std::string>();
+    if (p.is_relative()) p = folder / p;
+    std::ifstream in(p);
+    if (!in) bad(origin, fmt::format("scene = {}: cannot read {}", scene.dump(), p.string()));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    try {
+      s.base = json::parse(ss.str());
+    } catch (const json::exception& e) {
+      bad(origin, fmt::format("scene {}: not valid JSON ({})", p.string(), e.what()));
+    }
+    s.base_origin = p.string();
+  } else if (scene.is_object()) {
+    s.base = scene;
+    s.base_origin = origin + " (inline scene)";
+  } else {
+    bad(origin, "scene must be a file path or an object");
+  }
+  // The base must be a valid scene on its own.
+  parse_scene(s.base.dump(), s.base_origin);
+
+  if (j.contains("mode")) {
+    if (j["mode"] == "grid") s.zip = false;
+    else if (j["mode"] == "zip") s.zip = true;
+    else bad(origin, "mode must be \"grid\" (every combination) or \"zip\" (the i-th value of each parameter)");
+  }
+  if (j.contains("parameters")) {
+    const json& ps = j["parameters"];
+    if (!ps.is_array()) bad(origin, "parameters must be an array");
+    for (std::size_t k = 0; k < ps.size(); ++k) {
+      const std::string path = fmt::format("parameters[{}]", k);
+      const json& p = ps[k];
+      if (!p.is_object()) bad(origin, path + " must be an object {key or keys, values | log | linear, name}");
+      Parameter par;
+      if (p.contains("key") && p["key"].is_string()) par.keys.push_back(p["key"].get<std::string>());
+      if (p.contains("keys") && p["keys"].is_array())
+        for (const auto& key : p["keys"])
+          if (key.is_string()) par.keys.push_back(key.get<std::string>());
+      if (par.keys.empty()) bad(origin, path + " needs \"key\": \"a.b.c\" or \"keys\": [...]");
+      for (const auto& key : par.keys)
+        if (key == "seed") bad(origin, path + ": the seed is swept by \"seeds\", not as a parameter");
+      par.name = p.contains("name") && p["name"].is_string() ? p["name"].get<std::string>() : par.keys[0];
+      par.values = read_values(p, origin, path);
+      s.parameters.push_back(std::move(par));
+    }
+    if (s.zip)
+      for (const auto& par : s.parameters)
+        if (par.values.size() != s.parameters[0].values.size())
+          bad(origin, fmt::format("mode \"zip\": parameter {} has {} values, {} has {}", par.name, par.values.size(),
+                                  s.parameters[0].name, s.parameters[0].values.size()));
+  }
+  if (!j.contains("seeds")) {
+    s.seeds = {1};
+  } else if (j["seeds"].is_number_unsigned()) {
+    const std::uint64_t n = j["seeds"].get<std::uint64_t>();
+    if (n < 1 || n > 1000000) bad(origin, "seeds must be a count in [1, 1000000] or a list of seeds");
+    for (std::uint64_t k = 1; k <= n; ++k) s.seeds.push_back(k);
+  } else if (j["seeds"].is_array() && !j["seeds"].empty()) {
+    for (const auto& x : j["seeds"]) {
+      if (!x.is_number_unsigned()) bad(origin, "seeds: every seed must be an unsigned integer");
+      s.seeds.push_back(x.get<std::uint64_t>());
+    }
+  } else {
+    bad(origin, "seeds must be a count in [1, 1000000] or a non-empty list of seeds");
+  }
+  if (j.contains("outputs")) {
+    if (j["outputs"] == "metrics") s.write_runs = false;
+    else if (j["outputs"] == "runs") s.write_runs = true;
+    else bad(origin, "outputs must be \"metrics\" (records only) or \"runs\" (also each member's run folder)");
+  }
+  if (member_count(s) > 10000000) bad(origin, fmt::format("{} members: at most 10^7", member_count(s)));
+  // Every point must make a valid scene: check them before anything runs.
+  for (std::size_t p = 0; p < point_count(s); ++p)
+    parse_scene(member_scene_json(s, p * s.seeds.size()).dump(), fmt::format("{} point {}", origin, p));
+  return s;
+}
+
+Spec load_spec(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("sweep {}: cannot read the file", path));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  json j;
+  try {
+    j = json::parse(ss.str());
+  } catch (const json::exception& e) {
+    throw InputError(fmt::format("sweep {}: not valid JSON ({})", path, e.what()));
+  }
+  return parse_spec(j, path, fs::path(path).parent_path());
+}
+
+std::size_t point_count(const Spec& spec) {
+  if (spec.parameters.empty()) return 1;
+  if (spec.zip) return spec.parameters[0].values.size();
+  std::size_t n = 1;
+  for (const auto& p : spec.parameters) n *= p.values.size();
+  return n;
+}
+
+std::size_t member_count(const Spec& spec) { return point_count(spec) * spec.seeds.size(); }
+
+std::vector<json> point_values(const Spec& spec, std::size_t point) {
+  std::vector<json> out(spec.parameters.size());
+  std::size_t rest = point;
+  for (std::size_t k = spec.parameters.size(); k-- > 0;) {
+    const auto& vals = spec.parameters[k].values;
+    out[k] = spec.zip ? vals[point] : vals[rest % vals.size()];
+    if (!spec.zip) rest /= vals.size();
+  }
+  return out;
+}
+
+json member_scene_json(const Spec& spec, std::size_t member) {
+  json scene = spec.base;
+  const std::size_t point = member / spec.seeds.size();
+  const auto values = point_values(spec, point);
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k)
+    for (const auto& key : spec.parameters[k].keys) set_path(scene, split_path(key), 0, values[k], key);
+  scene["seed"] = spec.seeds[member % spec.seeds.size()];
+  return scene;
+}
+
+MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& options, const fs::path& run_dir) {
+  MemberResult r;
+  r.member = member;
+  try {
+    const ParseResult parsed = parse_scene(member_scene_json(spec, member).dump(), fmt::format("member {}", member));
+    r.scene_sha256 = sha256_hex(scene_to_json(parsed.scene).dump());
+    RunResult run = run_scene(parsed.scene, options);
+    r.metrics = assay::scalar_metrics(assay::measure(run.scene, run.soma, run.neurons, run.cues));
+    r.connections_sha256 = sha256_hex(connections_csv(run));
+    if (!run_dir.empty()) write_outputs(run, run_dir, "reference", 1, parsed.warnings);
+    r.ok = true;
+  } catch (const InputError& e) {
+    r.exit_code = kExitBadInput;
+    r.message = e.what();
+  } catch (const RunError& e) {
+    r.exit_code = kExitCannotRun;
+    r.message = e.what();
+  } catch (const std::bad_alloc&) {
+    r.exit_code = kExitCannotRun;
+    r.message = "out of memory";
+  } catch (const std::exception& e) {
+    r.exit_code = kExitCannotRun;
+    r.message = e.what();
+  }
+  if (!r.ok) {
+    for (const auto& name : assay::scalar_metric_names()) r.metrics.emplace_back(name, kNaN);
+    if (r.scene_sha256.empty()) r.scene_sha256 = sha256_hex(member_scene_json(spec, member).dump());
+  }
+  return r;
+}
+
+fs::path record_path(const fs::path& dir, std::size_t member) {
+  return dir / "members" / fmt::format("m{:07d}.json", member);
+}
+
+std::optional<MemberResult> read_verified_record(const Spec& spec, const fs::path& dir, std::size_t member) {
+  std::ifstream in(record_path(dir, member));
+  if (!in) return std::nullopt;
+  try {
+    json j = json::parse(in);
+    const std::string stored = j.at("record_sha256").get<std::string>();
+    j.erase("record_sha256");
+    if (sha256_hex(j.dump()) != stored) return std::nullopt;
+    if (j.at("version") != kVersion || j.at("member") != member || j.at("status") != "ok") return std::nullopt;
+    const ParseResult parsed = parse_scene(member_scene_json(spec, member).dump(), "member");
+    if (j.at("scene_sha256") != sha256_hex(scene_to_json(parsed.scene).dump())) return std::nullopt;
+    if (spec.write_runs && !run_folder_verifies(dir / "members" / fmt::format("m{:07d}", member))) return std::nullopt;
+    MemberResult r;
+    r.member = member;
+    r.ok = true;
+    r.skipped = true;
+    r.scene_sha256 = j["scene_sha256"];
+    r.connections_sha256 = j["connections_sha256"];
+    for (const auto& name : assay::scalar_metric_names()) {
+      const json& v = j.at("metrics").at(name);
+      r.metrics.emplace_back(name, v.is_null() ? kNaN : v.get<double>());
+    }
+    return r;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+MeanCi mean_ci(const std::vector<double>& xs) {
+  MeanCi c{0, kNaN, kNaN, kNaN};
+  double sum = 0;
+  for (double x : xs)
+    if (std::isfinite(x)) {
+      sum += x;
+      ++c.n;
+    }
+  if (c.n == 0) return c;
+  const double n = static_cast<double>(c.n);
+  c.mean = sum / n;
+  if (c.n < 2) return c;
+  double ss = 0;
+  for (double x : xs)
+    if (std::isfinite(x)) ss += (x - c.mean) * (x - c.mean);
+  const double half = gsl_cdf_tdist_Pinv(0.975, n - 1.0) * std::sqrt(ss / (n - 1.0) / n);
+  c.low = c.mean - half;
+  c.high = c.mean + half;
+  return c;
+}
+
+Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
+  prepare_output_dir(dir);
+  prepare_output_dir(dir / "members");
+  const std::size_t total = member_count(spec);
+  Outcome out;
+  out.members.resize(total);
+  std::vector<std::size_t> pending;
+  for (std::size_t m = 0; m < total; ++m) {
+    if (auto rec = read_verified_record(spec, dir, m)) {
+      out.members[m] = *rec;
+      ++out.skipped;
+    } else {
+      pending.push_back(m);
+    }
+  }
+  std::mutex mu;
+  std::size_t done = out.skipped, failed = 0;
+  if (options.on_member) options.on_member(done, total, failed, out.skipped);
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, pending.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            const std::size_t m = pending[k];
+            const fs::path run_dir =
+                spec.write_runs ? dir / "members" / fmt::format("m{:07d}", m) : fs::path();
+            MemberResult r = run_member(spec, m, options.run, run_dir);
+            json rec = record_json(r, spec.seeds[m % spec.seeds.size()]);
+            rec["record_sha256"] = sha256_hex(rec.dump());
+            {
+              AtomicFile f(dir / "members", record_path(dir, m).filename().string());
+              f.write(rec.dump(1));
+              f.write("\n");
+              f.commit();
+            }
+            std::lock_guard<std::mutex> lock(mu);
+            out.members[m] = std::move(r);
+            ++done;
+            if (!out.members[m].ok) ++failed;
+            if (options.on_member) options.on_member(done, total, failed, out.skipped);
+          }
+        },
+        tbb::simple_partitioner());
+  });
+  out.failed = failed;
+
+  // Gather, in member order.
+  const auto& names = assay::scalar_metric_names();
+  std::string params_header;
+  for (const auto& p : spec.parameters) params_header += "," + csv_quote(p.name);
+  {
+    std::string text = "member,point" + params_header + ",seed,status,exit_code";
+    for (const auto& n : names) text += "," + n;
+    text += ",connections_sha256,message\n";
+    for (std::size_t m = 0; m < total; ++m) {
+      const MemberResult& r = out.members[m];
+      const std::size_t point = m / spec.seeds.size();
+      text += fmt::format("{},{}", m, point);
+      for (const auto& v : point_values(spec, point)) text += "," + csv_quote(value_text(v));
+      text += fmt::format(",{},{},{}", spec.seeds[m % spec.seeds.size()], r.ok ? "ok" : "failed", r.exit_code);
+      for (const auto& [name, value] : r.metrics) text += "," + cell(value);
+      text += "," + r.connections_sha256 + "," + csv_quote(r.message) + "\n";
+    }
+    AtomicFile f(dir, "sweep.csv");
+    f.write(text);
+    f.commit();
+  }
+  {
+    std::string text = "point" + params_header + ",members,ok,failed";
+    for (const auto& n : names) text += fmt::format(",{0}_mean,{0}_ci_low,{0}_ci_high", n);
+    text += "\n";
+    const std::size_t S = spec.seeds.size();
+    for (std::size_t p = 0; p < point_count(spec); ++p) {
+      std::size_t ok = 0;
+      for (std::size_t s = 0; s < S; ++s) ok += out.members[p * S + s].ok;
+      text += fmt::format("{}", p);
+      for (const auto& v : point_values(spec, p)) text += "," + csv_quote(value_text(v));
+      text += fmt::format(",{},{},{}", S, ok, S - ok);
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        std::vector<double> xs;
+        for (std::size_t s = 0; s < S; ++s)
+          if (out.members[p * S + s].ok) xs.push_back(out.members[p * S + s].metrics[k].second);
+        const MeanCi c = mean_ci(xs);
+        text += "," + cell(c.mean) + "," + cell(c.low) + "," + cell(c.high);
+      }
+      text += "\n";
+    }
+    AtomicFile f(dir, "summary.csv");
+    f.write(text);
+    f.commit();
+  }
+  {
+    json canon;
+    canon["scene"] = scene_to_json(parse_scene(spec.base.dump(), spec.base_origin).scene);
+    canon["base_as_written"] = spec.base;
+    json ps = json::array();
+    for (const auto& p : spec.parameters) ps.push_back({{"name", p.name}, {"keys", p.keys}, {"values", p.values}});
+    canon["parameters"] = ps;
+    canon["mode"] = spec.zip ? "zip" : "grid";
+    canon["seeds"] = spec.seeds;
+    canon["outputs"] = spec.write_runs ? "runs" : "metrics";
+    canon["version"] = kVersion;
+    canon["members"] = total;
+    AtomicFile f(dir, "sweep.json");
+    f.write(canon.dump(2));
+    f.write("\n");
+    f.commit();
+  }
+  return out;
+}
+
+}  // namespace axg::sweep

@@ -21,7 +21,10 @@ namespace axg::sweep {
 struct Parameter {
   std::string name;               // column name (the first key unless given)
   std::vector<std::string> keys;  // dotted paths; "*" stands for every element of an array
-  std::vector<nlohmann::json> values;
+  std::vector<nlohmann::json> values;  // with cases: their labels
+  // "cases": {"label": {"key": value, ...}, ...}: each value sets several keys (a named
+  // condition such as a control); empty for a plain parameter.
+  std::vector<nlohmann::json> cases;
 };
 
 struct Spec {

@@ -112,6 +112,11 @@ Placement place_neurons(const Scene& scene) {
   if (!nn.overlap_reject || n < 2) return out;
 
   const double phi = packing_fraction(nn);
+  if (!nn.populations.empty() && phi > 0.38)
+    throw RunError(fmt::format(
+        "placement impossible: a population's packing fraction is {:.4f} (somas of radius {}); random sequential "
+        "addition jams near 0.38: enlarge neurons.populations[].radius or reduce its count",
+        phi, nn.soma_radius));
   const double limit = nn.shape == RegionShape::kSphere ? kMaxAreaFraction : kMaxVolumeFraction;
   const char* what = nn.shape == RegionShape::kSphere ? "area" : "volume";
   if (phi > limit)

@@ -195,6 +195,19 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
       const json& p = ps[k];
       if (!p.is_object()) bad(origin, path + " must be an object {key or keys, values | log | linear, name}");
       Parameter par;
+      if (p.contains("cases")) {
+        const json& cs = p["cases"];
+        if (!cs.is_object() || cs.empty() || !p.contains("name") || !p["name"].is_string())
+          bad(origin, path + ": \"cases\" must be a non-empty object {label: {key: value, ...}} with a \"name\"");
+        par.name = p["name"].get<std::string>();
+        for (auto it = cs.begin(); it != cs.end(); ++it) {
+          if (!it.value().is_object()) bad(origin, path + ".cases." + it.key() + " must be an object {key: value}");
+          par.values.push_back(it.key());
+          par.cases.push_back(it.value());
+        }
+        s.parameters.push_back(std::move(par));
+        continue;
+      }
       if (p.contains("key") && p["key"].is_string()) par.keys.push_back(p["key"].get<std::string>());
       if (p.contains("keys") && p["keys"].is_array())
         for (const auto& key : p["keys"])
@@ -277,8 +290,16 @@ json member_scene_json(const Spec& spec, std::size_t member) {
   json scene = spec.base;
   const std::size_t point = member / spec.seeds.size();
   const auto values = point_values(spec, point);
-  for (std::size_t k = 0; k < spec.parameters.size(); ++k)
-    for (const auto& key : spec.parameters[k].keys) set_path(scene, split_path(key), 0, values[k], key);
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
+    const Parameter& par = spec.parameters[k];
+    if (!par.cases.empty()) {
+      std::size_t c = 0;
+      while (par.values[c] != values[k]) ++c;
+      for (const auto& [key, value] : par.cases[c].items()) set_path(scene, split_path(key), 0, value, key);
+      continue;
+    }
+    for (const auto& key : par.keys) set_path(scene, split_path(key), 0, values[k], key);
+  }
   scene["seed"] = spec.seeds[member % spec.seeds.size()];
   return scene;
 }
@@ -464,7 +485,11 @@ Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
     canon["scene"] = scene_to_json(parse_scene(spec.base.dump(), spec.base_origin).scene);
     canon["base_as_written"] = spec.base;
     json ps = json::array();
-    for (const auto& p : spec.parameters) ps.push_back({{"name", p.name}, {"keys", p.keys}, {"values", p.values}});
+    for (const auto& p : spec.parameters) {
+      json entry = {{"name", p.name}, {"keys", p.keys}, {"values", p.values}};
+      if (!p.cases.empty()) entry["cases"] = p.cases;
+      ps.push_back(entry);
+    }
     canon["parameters"] = ps;
     canon["mode"] = spec.zip ? "zip" : "grid";
     canon["seeds"] = spec.seeds;

@@ -59,6 +59,18 @@ struct SweepArgs {
   bool quiet = false;
 };
 int cmd_sweep(const SweepArgs& args);
+
+struct FitArgs {
+  std::string data_path, scene_path, out_dir;
+  double max_chi2 = 3.0;
+  bool scale = false;
+  int seeds = 4;
+  double gain_lo = 1, gain_hi = 1000;
+  int coarse = 7, refine = 2;
+  int threads = 0;
+  std::string backend = "reference";
+};
+int cmd_fit(const FitArgs& args);
 int cmd_plot(const std::string& dir);
 
 }  // namespace axg::app

@@ -91,6 +91,27 @@ int dispatch(int argc, char** argv) {
       ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No summary or progress");
 
+  FitArgs fit;
+  auto* fit_cmd = app.add_subcommand("fit", "Fit the gain and K_d (and a concentration scale) to measured bias");
+  fit_cmd->add_option("data", fit.data_path, "CSV: concentration, steepness, bias, se, count")->required();
+  fit_cmd->add_option("--scene", fit.scene_path, "Base scene: an explant in an imposed gradient")->required();
+  fit_cmd->add_option("--out", fit.out_dir, "Output directory")->required();
+  fit_cmd->add_option("--max-chi2", fit.max_chi2, "Exit 1 when chi2/dof is above this")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  fit_cmd->add_flag("--scale", fit.scale, "Also fit a scale on the nominal concentrations");
+  fit_cmd->add_option("--seeds", fit.seeds, "Seeds per model point")->capture_default_str()->check(CLI::Range(1, 1000));
+  fit_cmd->add_option("--gain-min", fit.gain_lo, "Coarse grid: smallest gain")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  fit_cmd->add_option("--gain-max", fit.gain_hi, "Coarse grid: largest gain")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  fit_cmd->add_option("--grid", fit.coarse, "Coarse grid points per parameter")->capture_default_str()
+      ->check(CLI::Range(2, 50));
+  fit_cmd->add_option("--refine", fit.refine, "Refinement rounds (5 points per parameter each)")->capture_default_str()
+      ->check(CLI::Range(0, 10));
+  fit_cmd->add_option("--threads", fit.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  fit_cmd->add_option("--backend", fit.backend, "reference or cuda")
+      ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
+
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
     bool known = false;
@@ -120,6 +141,10 @@ int dispatch(int argc, char** argv) {
   if (view_cmd->parsed()) return cmd_view(view_dir);
   if (assay_cmd->parsed()) return cmd_assay(assay_dir);
   if (sweep_cmd->parsed()) return cmd_sweep(sweep);
+  if (fit_cmd->parsed()) {
+    if (!(fit.gain_lo < fit.gain_hi)) throw axg::InputError("fit: --gain-min must be below --gain-max");
+    return cmd_fit(fit);
+  }
   if (plot_cmd->parsed()) return cmd_plot(plot_dir);
   if (gold_cmd->parsed()) {
     if (gold.action == "bless" && gold.reason.empty())

@@ -1,6 +1,7 @@
 // axonguide assay DIR, axonguide sweep SWEEP.json --out DIR (docs/methods.md §12).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,8 @@
 #include "axonguide/assay.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/fit.hpp"
+#include "axonguide/core/pmath.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/sweep.hpp"
 #include "axonguide/threads.hpp"
@@ -204,6 +207,120 @@ int cmd_sweep(const SweepArgs& args) {
     fmt::print("outputs   {}/sweep.csv, summary.csv, sweep.json, members/\n", args.out_dir);
   }
   return out.failed > 0 ? kExitCheckFailed : kExitOk;
+}
+
+}  // namespace axg::app
+
+namespace axg::app {
+
+int cmd_fit(const FitArgs& args) {
+  const auto data = fit::load_data(args.data_path);
+  const ParseResult parsed = load_scene_file(args.scene_path);
+  std::ifstream in(args.scene_path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const json base = json::parse(ss.str());
+  fit::Options o;
+  o.threads = resolve_threads(args.threads);
+  o.fit_scale = args.scale;
+  o.seeds.clear();
+  for (int k = 1; k <= args.seeds; ++k) o.seeds.push_back(static_cast<std::uint64_t>(k));
+  o.gain_lo = args.gain_lo;
+  o.gain_hi = args.gain_hi;
+  o.coarse = args.coarse;
+  o.refine_rounds = args.refine;
+  o.run.make_engine = engine_factory(args.backend);
+  const auto t0 = std::chrono::steady_clock::now();
+  const fit::Result r = fit::fit(base, args.scene_path, data, o);
+
+  // The fitted curve: a dense concentration grid for each steepness of the data.
+  std::vector<double> steep;
+  double cmin = HUGE_VAL, cmax = 0;
+  for (const auto& d : data) {
+    if (std::find(steep.begin(), steep.end(), d.steepness) == steep.end()) steep.push_back(d.steepness);
+    cmin = std::min(cmin, d.concentration);
+    cmax = std::max(cmax, d.concentration);
+  }
+  std::vector<std::pair<double, double>> curve_pts;
+  const int nc = 13;
+  for (double s : steep)
+    for (int k = 0; k < nc; ++k)
+      curve_pts.emplace_back(core::pm::exp(core::pm::log(cmin / 3) + (core::pm::log(cmax * 3) - core::pm::log(cmin / 3)) * k / (nc - 1)), s);
+  std::vector<double> cm, cs;
+  fit::predict(base, curve_pts, r.best, o, cm, cs);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  prepare_output_dir(args.out_dir);
+  const fs::path dir(args.out_dir);
+  auto num = [](double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); };
+  std::string grid = "evaluation,gain,kd,scale,chi2\n";
+  for (std::size_t e = 0; e < r.evaluations.size(); ++e)
+    grid += fmt::format("{},{},{},{},{}\n", e, r.evaluations[e].p.gain, r.evaluations[e].p.kd, r.evaluations[e].p.scale,
+                        num(r.evaluations[e].chi2));
+  std::string pts = "line,concentration,steepness,bias,se,count,model,model_se,residual,model_min,model_max,reachable\n";
+  std::size_t unreachable = 0;
+  json unreach = json::array();
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const auto& d = data[i];
+    pts += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", d.line, d.concentration, d.steepness, d.bias, d.se,
+                       d.count, num(r.model[i]), num(r.model_se[i]), num((d.bias - r.model[i]) / d.se),
+                       num(r.model_min[i]), num(r.model_max[i]), r.reachable[i] ? "yes" : "no");
+    if (!r.reachable[i]) {
+      ++unreachable;
+      unreach.push_back({{"line", d.line}, {"concentration", d.concentration}, {"steepness", d.steepness},
+                         {"bias", d.bias}, {"se", d.se}, {"model_min", r.model_min[i]}, {"model_max", r.model_max[i]}});
+    }
+  }
+  std::string curve = "concentration,steepness,model,model_se\n";
+  for (std::size_t k = 0; k < curve_pts.size(); ++k)
+    curve += fmt::format("{},{},{},{}\n", curve_pts[k].first, curve_pts[k].second, num(cm[k]), num(cs[k]));
+  json summary = {{"data", args.data_path},
+                  {"scene", args.scene_path},
+                  {"gain", r.best.gain},
+                  {"kd", r.best.kd},
+                  {"concentration_scale", r.best.scale},
+                  {"scale_fitted", args.scale},
+                  {"chi2", r.chi2},
+                  {"dof", r.dof},
+                  {"chi2_per_dof", r.chi2_per_dof},
+                  {"max_chi2_per_dof", args.max_chi2},
+                  {"seeds", args.seeds},
+                  {"evaluations", r.evaluations.size()},
+                  {"runs", r.runs},
+                  {"unreachable", unreach},
+                  {"units", parsed.scene.units.describe()}};
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"fit_grid.csv", grid}, {"fit_points.csv", pts}, {"fit_curve.csv", curve}, {"fit.json", summary.dump(2) + "\n"}}) {
+    AtomicFile f(dir, name);
+    f.write(text);
+    f.commit();
+  }
+  const std::string& python = validate::plotting_python();
+  if (!python.empty()) {
+    const fs::path script = validate::plots_dir() / "fit_curve.py";
+    if (std::system(fmt::format("'{}' '{}' '{}' >/dev/null 2>&1", python, script.string(), dir.string()).c_str()) != 0)
+      std::fprintf(stderr, "axonguide: fit: %s failed; fit.png not drawn\n", script.string().c_str());
+  }
+  fmt::print("fit       {} data points from {}; base scene {}\n", data.size(), args.data_path, args.scene_path);
+  fmt::print("          best gain {:.4g}, K_d {:.4g} {}{}\n", r.best.gain, r.best.kd, parsed.scene.units.concentration,
+             args.scale ? fmt::format(", concentration scale {:.4g}", r.best.scale) : std::string());
+  fmt::print("          chi2 {:.3f} on {} degrees of freedom: chi2/dof = {:.3f} (threshold {})\n", r.chi2, r.dof,
+             r.chi2_per_dof, args.max_chi2);
+  fmt::print("          {} parameter sets, {} runs, {:.1f} s; {} data point{} the model cannot reach\n",
+             r.evaluations.size(), r.runs, wall, unreachable, unreachable == 1 ? "" : "s");
+  for (const auto& u : unreach)
+    fmt::print("          line {}: bias {} ± {} at {} {}, steepness {}: the model gives {:.4f} to {:.4f}\n",
+               u["line"].get<std::size_t>(), u["bias"].get<double>(), u["se"].get<double>(),
+               u["concentration"].get<double>(), parsed.scene.units.concentration, u["steepness"].get<double>(),
+               u["model_min"].get<double>(), u["model_max"].get<double>());
+  fmt::print("outputs   {}/fit.json, fit_points.csv, fit_grid.csv, fit_curve.csv{}\n", args.out_dir,
+             python.empty() ? "" : ", fit.png");
+  if (r.chi2_per_dof > args.max_chi2) {
+    std::fprintf(stderr, "axonguide: fit: chi2/dof = %.3f is above the threshold %g (--max-chi2)\n", r.chi2_per_dof,
+                 args.max_chi2);
+    return kExitCheckFailed;
+  }
+  return kExitOk;
 }
 
 }  // namespace axg::app

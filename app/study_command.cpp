@@ -115,7 +115,7 @@ int cmd_assay(const std::string& dir_name) {
     const double t = number(f[11], where);
     n.target[id] = t < 0 ? core::kNoNeuron : static_cast<std::uint32_t>(t);
   }
-  const auto cues = scene.uses_cues() ? make_cues(scene) : std::vector<core::CueParams>{};
+  const auto cues = assay::reference_cues(scene);
   const assay::Metrics m = assay::measure(scene, soma, n, cues);
 
   std::string text = "metric,value,ci_low,ci_high\n";
@@ -162,6 +162,9 @@ int cmd_assay(const std::string& dir_name) {
   if (std::isfinite(m.target_fraction))
     fmt::print("          reached the target population {:.4f}, crossed the midplane {:.4f}\n", m.target_fraction,
                m.crossing_fraction);
+  if (std::isfinite(m.near_attractant_fraction) || std::isfinite(m.near_repellent_fraction))
+    fmt::print("          tips within 3 sensing radii of an attractant {:.4f}, of a repellent {:.4f} (all neurons)\n",
+               m.near_attractant_fraction, m.near_repellent_fraction);
   const std::string& python = validate::plotting_python();
   if (python.empty()) {
     std::fprintf(stderr, "axonguide: assay: no python3 with matplotlib; assay.png not drawn\n");

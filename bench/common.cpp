@@ -62,6 +62,7 @@ Scene paper_cue_scene(std::uint64_t neurons) {
   s.axons.persistence_length.reset();  // the report's straight axons
   s.guidance.noise = NoiseForm::kBinding;  // the report's SNR form,
   s.cues.particles.amount = 0.01;          // particle amount and emission
+  s.cues.warmup_steps = 0;                 // and fields that start empty
   for (auto& src : s.cues.sources) src.emission = 100;
   return s;
 }

@@ -33,6 +33,10 @@ struct Geometry {
   core::Vec3 target_center;          // population 1's centre
 };
 
+// The scene's cue sources, positions resolved, also under direct guidance (a control is
+// measured against the same axis and sources as its treatment).
+std::vector<core::CueParams> reference_cues(const Scene& scene);
+
 Geometry explant_geometry(const Scene& scene, const std::vector<core::CueParams>& cues);
 
 struct Metrics {
@@ -57,9 +61,14 @@ struct Metrics {
   double target_fraction = 0;
   double crossing_fraction = 0;
   std::uint64_t crossing_axons = 0;  // the denominator of crossing_fraction
+  // Over every neuron: tips that ended within 3 sensing radii of an attractant / repellent
+  // source (NaN without such a source): where the network's axons went.
+  double near_attractant_fraction = 0;
+  double near_repellent_fraction = 0;
 };
 
-// soma and heading come from the placement (the initial heading is heading_draw's).
+// soma comes from the placement (the initial heading is heading_draw's); cues from
+// reference_cues.
 Metrics measure(const Scene& scene, const std::vector<core::Vec3>& soma, const NeuronState& neurons,
                 const std::vector<core::CueParams>& cues);
 

@@ -670,14 +670,18 @@ json scene_to_json(const Scene& s) {
 }
 
 Scene Scene::builtin_default() {
-  // The main job: 1000 neurons at the report's density (100 per ball of radius 2.5),
-  // two attractant and two repellent sources at sampled positions, the particle field
-  // and SNR steering.
+  // The main job: 1000 neurons in a ball of radius 5.386 LU, two attractant and two
+  // repellent sources at sampled positions, the particle field and SNR steering. Somas of
+  // radius 0.1 LU (packing fraction 0.0064) let axons travel about 9 LU before they meet
+  // a soma, and 50 warm-up steps establish the fields first, so that guidance shapes the
+  // network: docs/methods.md §12.6 gives the margin against `model: direct`.
   Scene s;
   s.neurons.count = 1000;
   s.neurons.radius = 5.3860;  // 2.5 * 10^(1/3)
+  s.neurons.soma_radius = 0.1;
   s.guidance.model = GuidanceModel::kSnr;
   s.cues.field = FieldKind::kParticles;
+  s.cues.warmup_steps = 50;
   for (CueKind kind : {CueKind::kAttractant, CueKind::kRepellent, CueKind::kAttractant, CueKind::kRepellent}) {
     Source src;
     src.kind = kind;

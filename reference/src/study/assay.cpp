@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "axonguide/core/pmath.hpp"
+#include "axonguide/cue_setup.hpp"
 #include "axonguide/placement.hpp"
 
 namespace axg::assay {
@@ -45,6 +46,13 @@ double ratio_se(const std::vector<double>& a, const std::vector<double>& b, doub
 
 }  // namespace
 
+std::vector<core::CueParams> reference_cues(const Scene& scene) {
+  if (scene.uses_cues()) return make_cues(scene);
+  Scene s = scene;
+  s.guidance.model = GuidanceModel::kSnr;
+  return make_cues(s);
+}
+
 Geometry explant_geometry(const Scene& scene, const std::vector<core::CueParams>& cues) {
   Geometry g;
   const auto& pops = scene.neurons.populations;
@@ -54,9 +62,9 @@ Geometry explant_geometry(const Scene& scene, const std::vector<core::CueParams>
   if (g.has_target) g.target_center = pops[1].center;
 
   Vec3 axis{1.0, 0.0, 0.0};
-  if (scene.uses_cues() && scene.cues.field == FieldKind::kImposed) {
+  if (scene.cues.field == FieldKind::kImposed) {
     axis = unit(scene.cues.imposed.direction);
-  } else if (scene.uses_cues() && !cues.empty()) {
+  } else if (!cues.empty()) {
     std::size_t pick = 0;
     for (std::size_t k = cues.size(); k-- > 0;)
       if (cues[k].sign > 0) pick = k;
@@ -151,6 +159,20 @@ Metrics measure(const Scene& scene, const std::vector<Vec3>& soma, const NeuronS
     m.crossing_axons = total;
     m.crossing_fraction = static_cast<double>(crossed) / static_cast<double>(total);
   }
+  std::uint64_t near_a = 0, near_r = 0;
+  bool has_a = false, has_r = false;
+  const double reach2 = 9.0 * scene.guidance.sensing_radius * scene.guidance.sensing_radius;
+  for (const auto& c : cues) (c.sign > 0 ? has_a : has_r) = true;
+  for (std::size_t i = 0; i < neurons.size(); ++i) {
+    bool a = false, r = false;
+    for (const auto& c : cues)
+      if (core::norm2(neurons.tip[i] - c.position) <= reach2) (c.sign > 0 ? a : r) = true;
+    near_a += a;
+    near_r += r;
+  }
+  const double all = static_cast<double>(neurons.size());
+  m.near_attractant_fraction = has_a && all > 0 ? static_cast<double>(near_a) / all : kNaN;
+  m.near_repellent_fraction = has_r && all > 0 ? static_cast<double>(near_r) / all : kNaN;
   return m;
 }
 
@@ -158,14 +180,15 @@ const std::vector<std::string>& scalar_metric_names() {
   static const std::vector<std::string> names{
       "axons",          "bias",           "bias_se",          "guidance_ratio", "guidance_ratio_se",
       "mean_outgrowth", "mean_turning_deg", "turning_se_deg", "connected_fraction", "exited_fraction",
-      "target_fraction", "crossing_fraction"};
+      "target_fraction", "crossing_fraction", "near_attractant_fraction", "near_repellent_fraction"};
   return names;
 }
 
 std::vector<std::pair<std::string, double>> scalar_metrics(const Metrics& m) {
   const double values[] = {static_cast<double>(m.axons), m.bias, m.bias_se, m.guidance_ratio,
                            m.guidance_ratio_se, m.mean_outgrowth, m.mean_turning_deg, m.turning_se_deg,
-                           m.connected_fraction, m.exited_fraction, m.target_fraction, m.crossing_fraction};
+                           m.connected_fraction, m.exited_fraction, m.target_fraction, m.crossing_fraction,
+                           m.near_attractant_fraction, m.near_repellent_fraction};
   std::vector<std::pair<std::string, double>> out;
   const auto& names = scalar_metric_names();
   for (std::size_t k = 0; k < names.size(); ++k) out.emplace_back(names[k], values[k]);

@@ -311,7 +311,7 @@ MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& 
     const ParseResult parsed = parse_scene(member_scene_json(spec, member).dump(), fmt::format("member {}", member));
     r.scene_sha256 = sha256_hex(scene_to_json(parsed.scene).dump());
     RunResult run = run_scene(parsed.scene, options);
-    r.metrics = assay::scalar_metrics(assay::measure(run.scene, run.soma, run.neurons, run.cues));
+    r.metrics = assay::scalar_metrics(assay::measure(run.scene, run.soma, run.neurons, assay::reference_cues(run.scene)));
     r.connections_sha256 = sha256_hex(connections_csv(run));
     if (!run_dir.empty()) write_outputs(run, run_dir, "reference", 1, parsed.warnings);
     r.ok = true;

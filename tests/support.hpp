@@ -33,6 +33,12 @@ inline std::string binary() {
 }
 
 // A fresh directory, removed with its content when the object dies.
+// scenes/*.sweep.json are sweep files (docs/methods.md §12.2), not scenes.
+inline bool is_sweep_file(const fs::path& p) {
+  const std::string name = p.filename().string();
+  return name.size() > 11 && name.compare(name.size() - 11, 11, ".sweep.json") == 0;
+}
+
 class TempDir {
  public:
   TempDir() {

@@ -44,7 +44,15 @@ inline Source repellent(Source s) {
 inline std::vector<NamedScene> backend_scenes(bool small) {
   std::vector<NamedScene> out;
   auto shrink = [&](Scene s) {
-    if (small && s.neurons.count > 600) {
+    if (small && !s.neurons.populations.empty()) {
+      // Populations: at most 300 neurons each, in their own balls (the region unchanged);
+      // the particle field's emission at most 1000 per step.
+      std::uint64_t total = 0;
+      for (auto& p : s.neurons.populations) total += (p.count = std::min<std::uint64_t>(p.count, 300));
+      s.neurons.count = total;
+      for (auto& src : s.cues.sources) src.emission = std::min(src.emission, 1000.0);
+      s.cues.warmup_steps = std::min<std::uint32_t>(s.cues.warmup_steps, 20);
+    } else if (small && s.neurons.count > 600) {
       const double f = 600.0 / static_cast<double>(s.neurons.count);
       s.neurons.count = 600;
       s.neurons.radius *= std::cbrt(f);
@@ -58,7 +66,8 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
     std::vector<std::filesystem::path> files;
     for (const auto& e : std::filesystem::recursive_directory_iterator(root / dir))
       if (e.path().extension() == ".json" && e.path().filename() == "scene.json") files.push_back(e.path());
-      else if (e.path().extension() == ".json" && std::string(dir) == "scenes") files.push_back(e.path());
+      else if (e.path().extension() == ".json" && std::string(dir) == "scenes" && !test::is_sweep_file(e.path()))
+        files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (const auto& f : files)
       out.push_back({std::filesystem::relative(f, root).string(), shrink(load_scene_file(f.string()).scene)});

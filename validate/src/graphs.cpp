@@ -123,7 +123,8 @@ void validate_gpu(const Options& o, Report& r) {
     if (!fs::exists(root)) continue;
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(root))
-      if (e.path().extension() == ".json") files.push_back(e.path());
+      if (e.path().extension() == ".json" && e.path().string().find(".sweep.json") == std::string::npos)
+        files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (const auto& f : files) scenes.emplace_back(f.filename().string(), load_scene_file(f.string()).scene);
   }

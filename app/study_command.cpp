@@ -184,6 +184,7 @@ int cmd_sweep(const SweepArgs& args) {
   sweep::Options options;
   options.threads = resolve_threads(args.threads);
   options.run.make_engine = engine_factory(args.backend);
+  options.backend = args.backend;
   const bool tty = ::isatty(STDERR_FILENO) == 1 && !args.quiet;
   auto last = std::chrono::steady_clock::now() - std::chrono::seconds(1);
   options.on_member = [&](std::size_t done, std::size_t total, std::size_t failed, std::size_t skipped) {

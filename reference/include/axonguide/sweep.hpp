@@ -61,12 +61,14 @@ struct MemberResult {
 };
 
 // Runs member m in memory and measures it; never throws (failures are recorded).
+// With a run_dir, the member's full run folder is written there (manifest naming backend).
 MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& options,
-                        const std::filesystem::path& run_dir = {});
+                        const std::filesystem::path& run_dir = {}, const std::string& backend = "reference");
 
 struct Options {
   int threads = 0;
-  RunOptions run;  // the backend
+  RunOptions run;  // the backend's engine
+  std::string backend = "reference";
   // Called after each member completes (from worker threads, serialised).
   std::function<void(std::size_t done, std::size_t total, std::size_t failed, std::size_t skipped)> on_member;
 };

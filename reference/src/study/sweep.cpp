@@ -304,7 +304,8 @@ json member_scene_json(const Spec& spec, std::size_t member) {
   return scene;
 }
 
-MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& options, const fs::path& run_dir) {
+MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& options, const fs::path& run_dir,
+                        const std::string& backend) {
   MemberResult r;
   r.member = member;
   try {
@@ -313,7 +314,7 @@ MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& 
     RunResult run = run_scene(parsed.scene, options);
     r.metrics = assay::scalar_metrics(assay::measure(run.scene, run.soma, run.neurons, assay::reference_cues(run.scene)));
     r.connections_sha256 = sha256_hex(connections_csv(run));
-    if (!run_dir.empty()) write_outputs(run, run_dir, "reference", 1, parsed.warnings);
+    if (!run_dir.empty()) write_outputs(run, run_dir, backend, 1, parsed.warnings);
     r.ok = true;
   } catch (const InputError& e) {
     r.exit_code = kExitBadInput;
@@ -415,7 +416,7 @@ Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
             const std::size_t m = pending[k];
             const fs::path run_dir =
                 spec.write_runs ? dir / "members" / fmt::format("m{:07d}", m) : fs::path();
-            MemberResult r = run_member(spec, m, options.run, run_dir);
+            MemberResult r = run_member(spec, m, options.run, run_dir, options.backend);
             json rec = record_json(r, spec.seeds[m % spec.seeds.size()]);
             rec["record_sha256"] = sha256_hex(rec.dump());
             {

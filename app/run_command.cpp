@@ -96,6 +96,8 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
       sources += fmt::format("{}{} at ({:.2f}, {:.2f}, {:.2f})", sources.empty() ? "" : ", ",
                              c.sign > 0 ? "attractant" : "repellent", c.position.x, c.position.y, c.position.z);
     fmt::print("cues      {} field, {} steering: {}\n", name_of(s.cues.field), name_of(s.guidance.model), sources);
+    if (s.cues.warmup_steps > 0)
+      fmt::print("          {} warm-up steps of the fields before growth\n", s.cues.warmup_steps);
     if (!r.field_note.empty()) fmt::print("          {}\n", r.field_note);
     if (s.cues.field == FieldKind::kParticles) fmt::print("          {} particles at the end\n", last.particles);
   }

@@ -297,3 +297,30 @@ TEST(scene, BadPopulationsAreRefusedNamingTheKey) {
 
 }  // namespace
 }  // namespace axg
+
+namespace axg {
+namespace {
+
+TEST(sweep, CommandExitCodes) {
+  test::TempDir d;
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(d.path() / name) << text;
+    return (d.path() / name).string();
+  };
+  const std::string scene = (std::filesystem::path(AXG_SOURCE_DIR) / "scenes/midline-control.json").string();
+  const std::string ok = write("ok.json", fmt::format(R"({{"scene": "{}", "seeds": 2,
+      "parameters": [{{"key": "steps", "values": [5, 10]}}]}})", scene));
+  EXPECT_EQ(run_binary(fmt::format("sweep {} --out {}/a", ok, d.path().string())), 0);
+  EXPECT_TRUE(std::filesystem::exists(d.path() / "a/summary.csv"));
+  const std::string bad = write("bad.json", fmt::format(R"({{"scene": "{}", "parameters": [{{"key": "steps", "values": [-1]}}]}})", scene));
+  EXPECT_EQ(run_binary(fmt::format("sweep {} --out {}/b", bad, d.path().string())), 2);
+  EXPECT_FALSE(std::filesystem::exists(d.path() / "b/sweep.csv"));  // nothing ran
+  const std::string failing = write("fail.json", R"({"scene": {"steps": 3, "neurons": {"soma_radius": 0.1, "region": {"radius": 5},
+      "populations": [{"count": 10, "radius": 2}]}, "guidance": {"model": "direct"}},
+      "parameters": [{"key": "neurons.populations.0.count", "values": [10, 100000]}]})");
+  EXPECT_EQ(run_binary(fmt::format("sweep {} --out {}/c", failing, d.path().string())), 1);
+  EXPECT_NE(test::read_file(d.path() / "c/sweep.csv").find(",ok,0,"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace axg

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/assay.hpp"
-#include "axonguide/cue_setup.hpp"
+#include "axonguide/csv.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/fit.hpp"
 #include "axonguide/core/pmath.hpp"
@@ -36,21 +36,6 @@ std::string read_file(const fs::path& p, const char* what) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : line) {
-    if (c == ',') {
-      out.push_back(cur);
-      cur.clear();
-    } else if (c != '\r') {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
 }
 
 double number(const std::string& s, const std::string& where) {
@@ -99,7 +84,7 @@ int cmd_assay(const std::string& dir_name) {
   std::size_t row = 1;
   while (std::getline(lines, line)) {
     ++row;
-    const auto f = split(line);
+    const auto f = split_csv_line(line);
     const std::string where = fmt::format("assay: neurons.csv line {}", row);
     if (f.size() != 12) throw InputError(fmt::format("{}: {} fields, expected 12", where, f.size()));
     const auto id = static_cast<std::size_t>(number(f[0], where));
@@ -135,26 +120,20 @@ int cmd_assay(const std::string& dir_name) {
       std::tie(lo, hi) = assay::wilson_interval(std::round(value * m.crossing_axons), m.crossing_axons);
     text += fmt::format("{},{},{},{}\n", name, num(value), num(lo), num(hi));
   }
-  AtomicFile a(dir, "assay.csv");
-  a.write(text);
-  a.commit();
+  write_file_atomically(dir, "assay.csv", text);
   std::string prof = "theta_deg,outgrowth,axons\n";
   for (int j = 0; j < assay::kAngleBins; ++j)
     prof += fmt::format("{},{},{}\n", (j + 0.5) * 360.0 / assay::kAngleBins, m.profile[j], m.profile_axons[j]);
-  AtomicFile p(dir, "assay_profile.csv");
-  p.write(prof);
-  p.commit();
+  write_file_atomically(dir, "assay_profile.csv", prof);
   std::string turn = "from_deg,to_deg,axons\n";
   for (int k = 0; k < assay::kTurningBins; ++k)
     turn += fmt::format("{},{},{}\n", -180 + k * 360 / assay::kTurningBins, -180 + (k + 1) * 360 / assay::kTurningBins,
                         m.turning[k]);
-  AtomicFile t(dir, "assay_turning.csv");
-  t.write(turn);
-  t.commit();
+  write_file_atomically(dir, "assay_turning.csv", turn);
 
-  fmt::print("assay     {} explant axons that grew; gradient axis up = ({:.3f}, {:.3f}, {:.3f})\n", m.axons,
-             assay::explant_geometry(scene, cues).up.x, assay::explant_geometry(scene, cues).up.y,
-             assay::explant_geometry(scene, cues).up.z);
+  const core::Vec3 up = assay::explant_geometry(scene, cues).up;
+  fmt::print("assay     {} explant axons that grew; gradient axis up = ({:.3f}, {:.3f}, {:.3f})\n", m.axons, up.x,
+             up.y, up.z);
   fmt::print("          directional bias {:.4f} ± {:.4f} (95% CI), guidance ratio {:.4f} ± {:.4f}\n", m.bias,
              z * m.bias_se, m.guidance_ratio, z * m.guidance_ratio_se);
   fmt::print("          mean turning angle {:.2f}° ± {:.2f}°, mean outgrowth {:.4g} {}\n", m.mean_turning_deg,
@@ -294,11 +273,8 @@ int cmd_fit(const FitArgs& args) {
                   {"unreachable", unreach},
                   {"units", parsed.scene.units.describe()}};
   for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
-           {"fit_grid.csv", grid}, {"fit_points.csv", pts}, {"fit_curve.csv", curve}, {"fit.json", summary.dump(2) + "\n"}}) {
-    AtomicFile f(dir, name);
-    f.write(text);
-    f.commit();
-  }
+           {"fit_grid.csv", grid}, {"fit_points.csv", pts}, {"fit_curve.csv", curve}, {"fit.json", summary.dump(2) + "\n"}})
+    write_file_atomically(dir, name, text);
   const std::string& python = validate::plotting_python();
   if (!python.empty()) {
     const fs::path script = validate::plots_dir() / "fit_curve.py";

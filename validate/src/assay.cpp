@@ -21,11 +21,9 @@
 
 #include <fmt/format.h>
 #include <gsl/gsl_cdf.h>
-#include <tbb/parallel_for.h>
 
 #include "axonguide/error.hpp"
 #include "axonguide/sweep.hpp"
-#include "axonguide/threads.hpp"
 #include "axonguide/validate/validate.hpp"
 
 namespace axg::validate {
@@ -40,17 +38,8 @@ struct Series {
   std::vector<std::vector<double>> bias;  // [point][seed]
 };
 
-double mean_of(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s / static_cast<double>(v.size());
-}
-double se_of(const std::vector<double>& v) {
-  const double m = mean_of(v);
-  double ss = 0;
-  for (double x : v) ss += (x - m) * (x - m);
-  return std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()));
-}
+double mean_of(const std::vector<double>& v) { return sweep::mean_se(v).mean; }
+double se_of(const std::vector<double>& v) { return sweep::mean_se(v).se; }
 
 // Runs the base scene at every (value of key, seed) and returns the bias per member.
 Series run_series(const json& base, const std::vector<std::pair<std::string, json>>& fixed, const std::string& key,
@@ -65,18 +54,12 @@ Series run_series(const json& base, const std::vector<std::pair<std::string, jso
   for (double v : values) p.values.push_back(v);
   spec.parameters.push_back(p);
   for (std::size_t s = 1; s <= seeds; ++s) spec.seeds.push_back(s);
-  std::vector<double> bias(sweep::member_count(spec));
-  std::vector<std::string> errors(bias.size());
-  with_threads(threads, [&] {
-    tbb::parallel_for(std::size_t{0}, bias.size(), [&](std::size_t m) {
-      const sweep::MemberResult r = sweep::run_member(spec, m, {});
-      if (!r.ok) errors[m] = r.message;
-      for (const auto& [name, value] : r.metrics)
-        if (name == "bias") bias[m] = value;
-    });
-  });
-  for (const auto& e : errors)
-    if (!e.empty()) throw RunError("validate assay: a run failed: " + e);
+  const std::vector<sweep::MemberResult> results = sweep::run_in_memory({spec}, threads, {});
+  std::vector<double> bias(results.size());
+  for (std::size_t m = 0; m < results.size(); ++m) {
+    if (!results[m].ok) throw RunError("validate assay: a run failed: " + results[m].message);
+    bias[m] = sweep::metric(results[m], "bias");
+  }
   Series s;
   s.x = values;
   for (std::size_t i = 0; i < values.size(); ++i)

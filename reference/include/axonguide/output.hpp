@@ -31,6 +31,9 @@ class AtomicFile {
   void* digest_ = nullptr;  // EVP_MD_CTX, hashed as bytes are written
 };
 
+// Writes a whole file atomically (AtomicFile, write, commit); returns its SHA-256.
+std::string write_file_atomically(const std::filesystem::path& dir, const std::string& name, std::string_view text);
+
 // Hex SHA-256 of a file's bytes (OpenSSL EVP).
 std::string sha256_file(const std::filesystem::path& path);
 std::string sha256_hex(std::string_view bytes);

@@ -87,6 +87,21 @@ std::filesystem::path record_path(const std::filesystem::path& dir, std::size_t 
 std::optional<MemberResult> read_verified_record(const Spec& spec, const std::filesystem::path& dir,
                                                  std::size_t member);
 
+// Runs every member of every spec in memory (no files) in one parallel loop, for callers
+// that evaluate many sweeps at once (the fit, the validation); results are flattened in
+// (spec, member) order and do not depend on the thread count.
+std::vector<MemberResult> run_in_memory(const std::vector<Spec>& specs, int threads, const RunOptions& options);
+
+// A member's metric by name (NaN when the member failed).
+double metric(const MemberResult& r, const std::string& name);
+
+// Mean and standard error of the mean of xs (NaN entries ignored); n < 2: se NaN.
+struct MeanSe {
+  std::size_t n = 0;
+  double mean, se;
+};
+MeanSe mean_se(const std::vector<double>& xs);
+
 // Two-sided 95 % Student-t interval of the mean of xs (NaN entries ignored); n < 2: NaN.
 struct MeanCi {
   std::size_t n = 0;

@@ -90,6 +90,12 @@ struct Digest {
 };
 }  // namespace
 
+std::string write_file_atomically(const std::filesystem::path& dir, const std::string& name, std::string_view text) {
+  AtomicFile f(dir, name);
+  f.write(text);
+  return f.commit();
+}
+
 std::string sha256_hex(std::string_view bytes) {
   Digest d;
   d.update(bytes.data(), bytes.size());

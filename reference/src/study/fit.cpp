@@ -8,10 +8,9 @@
 #include <sstream>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "axonguide/assay.hpp"
+#include "axonguide/csv.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/sweep.hpp"
@@ -21,28 +20,6 @@ namespace axg::fit {
 using nlohmann::json;
 
 namespace {
-
-std::string trim(const std::string& s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && (s[a] == ' ' || s[a] == '\t' || s[a] == '\r')) ++a;
-  while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t' || s[b - 1] == '\r')) --b;
-  return s.substr(a, b - a);
-}
-
-std::vector<std::string> fields(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : line) {
-    if (c == ',') {
-      out.push_back(trim(cur));
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(trim(cur));
-  return out;
-}
 
 double log_of(double x) { return core::pm::log(x); }
 double exp_of(double x) { return core::pm::exp(x); }
@@ -67,9 +44,9 @@ std::vector<DataPoint> load_data(const std::string& path) {
   const char* names[] = {"concentration", "steepness", "bias", "se", "count"};
   while (std::getline(in, line)) {
     ++n;
-    const std::string t = trim(line);
+    const std::string t = trim_cell(line);
     if (t.empty() || t[0] == '#') continue;
-    const auto f = fields(t);
+    const auto f = split_csv_line(t);
     if (col.empty()) {
       for (std::size_t k = 0; k < f.size(); ++k) col[f[k]] = k;
       for (const char* name : names)
@@ -135,36 +112,23 @@ void evaluate(const json& base, const std::vector<std::pair<double, double>>& pt
   std::vector<sweep::Spec> specs;
   for (const Params& p : ps) specs.push_back(spec_for(base, pts, p, o));
   const std::size_t per = pts.size() * o.seeds.size();
-  std::vector<double> bias(ps.size() * per, std::numeric_limits<double>::quiet_NaN());
-  std::vector<std::string> errors(ps.size() * per);
-  tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(std::size_t{0}, bias.size(), [&](std::size_t k) {
-      const sweep::MemberResult r = sweep::run_member(specs[k / per], k % per, o.run);
-      if (!r.ok) {
-        errors[k] = r.message;
-        return;
-      }
-      for (const auto& [name, value] : r.metrics)
-        if (name == "bias") bias[k] = value;
-    });
-  });
-  for (std::size_t k = 0; k < errors.size(); ++k)
-    if (!errors[k].empty())
+  const std::vector<sweep::MemberResult> results = sweep::run_in_memory(specs, o.threads, o.run);
+  for (std::size_t k = 0; k < results.size(); ++k)
+    if (!results[k].ok)
       throw RunError(fmt::format("fit: the model run at gain {}, K_d {}, scale {} failed: {}", ps[k / per].gain,
-                                 ps[k / per].kd, ps[k / per].scale, errors[k]));
-  runs += bias.size();
+                                 ps[k / per].kd, ps[k / per].scale, results[k].message));
+  runs += results.size();
   const std::size_t S = o.seeds.size();
   mean.assign(ps.size(), std::vector<double>(pts.size()));
   se.assign(ps.size(), std::vector<double>(pts.size()));
   for (std::size_t e = 0; e < ps.size(); ++e)
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      double s = 0, ss = 0;
-      for (std::size_t j = 0; j < S; ++j) s += bias[e * per + i * S + j];
-      const double m = s / static_cast<double>(S);
-      for (std::size_t j = 0; j < S; ++j) ss += (bias[e * per + i * S + j] - m) * (bias[e * per + i * S + j] - m);
-      mean[e][i] = m;
-      se[e][i] = S > 1 ? std::sqrt(ss / static_cast<double>(S - 1) / static_cast<double>(S)) : 0.0;
+      std::vector<double> bias(S);
+      for (std::size_t j = 0; j < S; ++j) bias[j] = sweep::metric(results[e * per + i * S + j], "bias");
+      const sweep::MeanSe m = sweep::mean_se(bias);
+      // An undefined bias (no axon grew) makes the point, and so the parameter set, undefined.
+      mean[e][i] = m.n == S ? m.mean : std::numeric_limits<double>::quiet_NaN();
+      se[e][i] = S > 1 ? m.se : 0.0;
     }
 }
 

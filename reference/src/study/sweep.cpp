@@ -1,5 +1,6 @@
 #include "axonguide/sweep.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -368,8 +369,8 @@ std::optional<MemberResult> read_verified_record(const Spec& spec, const fs::pat
   }
 }
 
-MeanCi mean_ci(const std::vector<double>& xs) {
-  MeanCi c{0, kNaN, kNaN, kNaN};
+MeanSe mean_se(const std::vector<double>& xs) {
+  MeanSe c{0, kNaN, kNaN};
   double sum = 0;
   for (double x : xs)
     if (std::isfinite(x)) {
@@ -383,10 +384,38 @@ MeanCi mean_ci(const std::vector<double>& xs) {
   double ss = 0;
   for (double x : xs)
     if (std::isfinite(x)) ss += (x - c.mean) * (x - c.mean);
-  const double half = gsl_cdf_tdist_Pinv(0.975, n - 1.0) * std::sqrt(ss / (n - 1.0) / n);
+  c.se = std::sqrt(ss / (n - 1.0) / n);
+  return c;
+}
+
+MeanCi mean_ci(const std::vector<double>& xs) {
+  const MeanSe m = mean_se(xs);
+  MeanCi c{m.n, m.mean, kNaN, kNaN};
+  if (m.n < 2) return c;
+  const double half = gsl_cdf_tdist_Pinv(0.975, static_cast<double>(m.n) - 1.0) * m.se;
   c.low = c.mean - half;
   c.high = c.mean + half;
   return c;
+}
+
+std::vector<MemberResult> run_in_memory(const std::vector<Spec>& specs, int threads, const RunOptions& options) {
+  std::vector<std::size_t> first{0};
+  for (const Spec& s : specs) first.push_back(first.back() + member_count(s));
+  std::vector<MemberResult> out(first.back());
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, out.size(), [&](std::size_t k) {
+      const std::size_t s = static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), k) - first.begin()) - 1;
+      out[k] = run_member(specs[s], k - first[s], options);
+    });
+  });
+  return out;
+}
+
+double metric(const MemberResult& r, const std::string& name) {
+  for (const auto& [n, v] : r.metrics)
+    if (n == name) return v;
+  throw std::invalid_argument("sweep::metric: no metric named " + name);
 }
 
 Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
@@ -419,12 +448,7 @@ Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
             MemberResult r = run_member(spec, m, options.run, run_dir, options.backend);
             json rec = record_json(r, spec.seeds[m % spec.seeds.size()]);
             rec["record_sha256"] = sha256_hex(rec.dump());
-            {
-              AtomicFile f(dir / "members", record_path(dir, m).filename().string());
-              f.write(rec.dump(1));
-              f.write("\n");
-              f.commit();
-            }
+            write_file_atomically(dir / "members", record_path(dir, m).filename().string(), rec.dump(1) + "\n");
             std::lock_guard<std::mutex> lock(mu);
             out.members[m] = std::move(r);
             ++done;
@@ -439,23 +463,21 @@ Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
   // Gather, in member order.
   const auto& names = assay::scalar_metric_names();
   std::string params_header;
-  for (const auto& p : spec.parameters) params_header += "," + csv_quote(p.name);
+  for (const auto& p : spec.parameters) params_header += fmt::format(",{}", csv_quote(p.name));
   {
     std::string text = "member,point" + params_header + ",seed,status,exit_code";
-    for (const auto& n : names) text += "," + n;
+    for (const auto& n : names) text += fmt::format(",{}", n);
     text += ",connections_sha256,message\n";
     for (std::size_t m = 0; m < total; ++m) {
       const MemberResult& r = out.members[m];
       const std::size_t point = m / spec.seeds.size();
       text += fmt::format("{},{}", m, point);
-      for (const auto& v : point_values(spec, point)) text += "," + csv_quote(value_text(v));
+      for (const auto& v : point_values(spec, point)) text += fmt::format(",{}", csv_quote(value_text(v)));
       text += fmt::format(",{},{},{}", spec.seeds[m % spec.seeds.size()], r.ok ? "ok" : "failed", r.exit_code);
-      for (const auto& [name, value] : r.metrics) text += "," + cell(value);
-      text += "," + r.connections_sha256 + "," + csv_quote(r.message) + "\n";
+      for (const auto& [name, value] : r.metrics) text += fmt::format(",{}", cell(value));
+      text += fmt::format(",{},{}\n", r.connections_sha256, csv_quote(r.message));
     }
-    AtomicFile f(dir, "sweep.csv");
-    f.write(text);
-    f.commit();
+    write_file_atomically(dir, "sweep.csv", text);
   }
   {
     std::string text = "point" + params_header + ",members,ok,failed";
@@ -466,20 +488,18 @@ Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
       std::size_t ok = 0;
       for (std::size_t s = 0; s < S; ++s) ok += out.members[p * S + s].ok;
       text += fmt::format("{}", p);
-      for (const auto& v : point_values(spec, p)) text += "," + csv_quote(value_text(v));
+      for (const auto& v : point_values(spec, p)) text += fmt::format(",{}", csv_quote(value_text(v)));
       text += fmt::format(",{},{},{}", S, ok, S - ok);
       for (std::size_t k = 0; k < names.size(); ++k) {
         std::vector<double> xs;
         for (std::size_t s = 0; s < S; ++s)
           if (out.members[p * S + s].ok) xs.push_back(out.members[p * S + s].metrics[k].second);
         const MeanCi c = mean_ci(xs);
-        text += "," + cell(c.mean) + "," + cell(c.low) + "," + cell(c.high);
+        text += fmt::format(",{},{},{}", cell(c.mean), cell(c.low), cell(c.high));
       }
       text += "\n";
     }
-    AtomicFile f(dir, "summary.csv");
-    f.write(text);
-    f.commit();
+    write_file_atomically(dir, "summary.csv", text);
   }
   {
     json canon;
@@ -497,10 +517,7 @@ Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
     canon["outputs"] = spec.write_runs ? "runs" : "metrics";
     canon["version"] = kVersion;
     canon["members"] = total;
-    AtomicFile f(dir, "sweep.json");
-    f.write(canon.dump(2));
-    f.write("\n");
-    f.commit();
+    write_file_atomically(dir, "sweep.json", canon.dump(2) + "\n");
   }
   return out;
 }

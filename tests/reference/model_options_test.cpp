@@ -99,6 +99,13 @@ const std::vector<Option>& options() {
          s.cues.field = FieldKind::kGrid;
          s.cues.grid.scheme = GridScheme::kExplicit;
        }},
+      {"two populations", [](Scene& s) {
+         const double R = s.neurons.radius;
+         const std::uint64_t half = s.neurons.count / 2;
+         s.neurons.soma_radius = 0.08;
+         s.neurons.populations = {{half, {-0.45 * R, 0.0, 0.0}, 0.5 * R},
+                                  {s.neurons.count - half, {0.45 * R, 0.0, 0.0}, 0.5 * R}};
+       }},
       {"persistence off", [](Scene& s) { s.axons.persistence_length.reset(); }},
       {"persistence 0.5", [](Scene& s) { s.axons.persistence_length = 0.5; }},
       {"persistence 0.5, direct", [](Scene& s) {

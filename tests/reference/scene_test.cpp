@@ -3,9 +3,14 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <sys/wait.h>
+
+#include <fstream>
+
 #include <fmt/format.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/json_input.hpp"
 #include "axonguide/scene.hpp"
 #include "support.hpp"
 
@@ -162,6 +167,92 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{R"({"units": {"mass": "kg"}})", "unknown key units.mass"},
         Bad{R"({"units": "um"})", "units"}),
     [](const auto& info) { return std::to_string(info.index); });
+
+// The message of the InputError that parse_scene throws for `text` ("" when it accepts it).
+std::string refusal(const std::string& text) {
+  try {
+    parse_scene(text, "scene.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// nlohmann::json keeps the last of two equal keys; a scene names each key once, at any depth.
+TEST(scene, DuplicateKeysAreRefusedWithTheirPath) {
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"seed": 1, "seed": 2})", "scene.json: duplicate key seed:"},
+      {R"({"neurons": {"region": {"shape": "ball", "radius": 3, "shape": "box"}}})",
+       "duplicate key neurons.region.shape:"},
+      {R"({"cues": {"sources": [{"kind": "attractant"}, {"kind": "attractant", "kind": "repellent"}]}})",
+       "duplicate key cues.sources[1].kind:"},
+      {R"({"analysis": {"bfs_sources": [[1], 2, {"a": 1, "a": 2}]}})", "duplicate key analysis.bfs_sources[2].a:"},
+      {R"({"output": {}, "stepz": {"x": [0, {"y": 1, "y": 1}]}})", "duplicate key stepz.x[1].y:"},
+      {R"({"neurons": {}, "axons": {}, "neurons": {}})", "duplicate key neurons:"},
+  };
+  for (const auto& [text, expect] : cases) {
+    const std::string what = refusal(text);
+    EXPECT_NE(what.find(expect), std::string::npos) << text << "\nmessage: " << what;
+  }
+  // The same key in different objects is no duplicate.
+  EXPECT_EQ(refusal(R"({"neurons": {"count": 5, "region": {"radius": 5}}, "cues": {"random_sources": {"count": 1}},
+                        "analysis": {"bfs_sources": [0, 0]}})"),
+            "");
+}
+
+// nlohmann's lexer takes a NUL byte for the end of the text; nothing may follow the object
+// but whitespace.
+TEST(scene, TrailingBytesAreRefused) {
+  EXPECT_NE(refusal(std::string("{}\0", 3)).find("not valid JSON: a NUL byte at line 1, column 3 (byte 2)"),
+            std::string::npos)
+      << refusal(std::string("{}\0", 3));
+  EXPECT_NE(refusal(std::string("{}\0{\"seed\": 1}", 14)).find("NUL byte"), std::string::npos);
+  EXPECT_NE(refusal(std::string("{\"seed\":\n\0 1}", 13)).find("NUL byte at line 2, column 1"), std::string::npos);
+  EXPECT_NE(refusal("{} x").find("not valid JSON"), std::string::npos);
+  EXPECT_NE(refusal("{}{}").find("not valid JSON"), std::string::npos);
+  EXPECT_NE(refusal("{}\f").find("not valid JSON"), std::string::npos);
+  EXPECT_EQ(refusal("{} \t\r\n "), "");
+}
+
+// A message quotes keys and values from the file: no byte of it may reach the terminal as
+// a control character.
+TEST(scene, MessagesEscapeControlCharacters) {
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"\u001b[2J": 1})", R"(unknown key \u001b[2J (allowed here:)"},
+      {"{\"neurons\": {\"a\\u0001\x7f\": 1}}", R"(unknown key neurons.a\u0001\u007f ()"},
+      {"{\"a\xc2\x85\xe2\x80\xae\": 1}", R"(unknown key a\u0085\u202e ()"},
+      {R"({"seed": 1, "seed\u0001": 2, "seed\u0001": 3})", R"(duplicate key seed\u0001:)"},
+      {R"({"units": {"length": "\u001b]0;owned\u0007"}})", R"(units.length = "\u001b]0;owned\u0007": must be)"},
+      {"{\"\xff\": 1}", R"(\xff)"},
+      {"{\"caf\xc3\xa9\": 1}", "unknown key caf\xc3\xa9 ("},  // well-formed UTF-8 stays as it is
+  };
+  for (const auto& [text, expect] : cases) {
+    const std::string what = refusal(text);
+    EXPECT_NE(what.find(expect), std::string::npos) << "message: " << what << "\nexpected: " << expect;
+    for (unsigned char c : what) EXPECT_TRUE(c >= 0x20 && c != 0x7f) << "raw byte " << int(c) << " in " << what;
+  }
+  EXPECT_EQ(printable("a\tb\nc\\d\xf0\x9f\x98\x80"), "a\\u0009b\\u000ac\\d\xf0\x9f\x98\x80");
+  EXPECT_EQ(printable("\xc0\xaf\xed\xa0\x80\xe2\x82"), "\\xc0\\xaf\\xed\\xa0\\x80\\xe2\\x82");  // overlong, surrogate, cut
+}
+
+// Through the command: exit 2, the key path on stderr, no control byte.
+TEST(scene, DuplicateKeyIsExit2FromTheCommand) {
+  test::TempDir tmp;
+  const auto scene = tmp.path() / "dup.json", err = tmp.path() / "err.txt";
+  std::ofstream(scene, std::ios::binary) << R"({"neurons": {"count": 10, "count\u001b[31m": 20, "count": 30}})";
+  const int status =
+      std::system(fmt::format("{} scene check {} > /dev/null 2> {}", test::binary(), scene.string(), err.string()).c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  const std::string text = test::read_file(err);
+  EXPECT_NE(text.find("duplicate key neurons.count:"), std::string::npos) << text;
+  for (unsigned char c : text) EXPECT_TRUE(c >= 0x20 || c == '\n') << "raw byte " << int(c) << " in " << text;
+  std::ofstream(scene, std::ios::binary) << std::string("{}\0", 3);
+  EXPECT_EQ(WEXITSTATUS(std::system(
+                fmt::format("{} scene check {} > /dev/null 2> {}", test::binary(), scene.string(), err.string()).c_str())),
+            2);
+  EXPECT_NE(test::read_file(err).find("NUL byte"), std::string::npos) << test::read_file(err);
+}
 
 // Any value the parser accepts must survive the canonical form unchanged.
 RC_GTEST_PROP(scene, AcceptedValuesRoundTrip, ()) {

@@ -18,6 +18,7 @@
 #include "axonguide/core/cues.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/json_input.hpp"
 
 namespace axg {
 
@@ -486,14 +487,11 @@ std::vector<Source> canonical_sources(std::vector<Source> sources) {
   return sources;
 }
 
-ParseResult parse_scene(const std::string& text, const std::string& origin) {
+namespace {
+
+ParseResult parse_scene_unescaped(const std::string& text, const std::string& origin) {
   check_nesting(text, origin);
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::exception& e) {
-    throw InputError(fmt::format("{}: not valid JSON: {}", origin, e.what()));
-  }
+  const json root = parse_json_strict(text, origin);
   ParseResult result;
   read_scene(root, result.scene);
   // Warn about ignored cues only when the user set some (the canonical form always has them).
@@ -506,6 +504,17 @@ ParseResult parse_scene(const std::string& text, const std::string& origin) {
   if (result.scene.uses_cues() && result.scene.cues.field == FieldKind::kImposed) (void)make_cues(result.scene);
   resolve_output_dependencies(result.scene, result.warnings);
   return result;
+}
+
+}  // namespace
+
+// Messages quote keys and values from the file: they are escaped once, here.
+ParseResult parse_scene(const std::string& text, const std::string& origin) {
+  try {
+    return parse_scene_unescaped(text, origin);
+  } catch (const InputError& e) {
+    throw InputError(printable(e.what()));
+  }
 }
 
 void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warnings) {

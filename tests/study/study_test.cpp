@@ -199,6 +199,35 @@ TEST(sweep, BadSpecsNameTheKey) {
                "from and to must be > 0");
 }
 
+// A sweep file and the scene file it names are read as strictly as a scene.
+TEST(sweep, DuplicateKeysAndTrailingBytesAreRefused) {
+  test::TempDir d;
+  const auto scenes = std::filesystem::path(AXG_SOURCE_DIR) / "scenes";
+  auto expect_error = [&](const std::string& name, const std::string& text, const std::string& needle) {
+    const auto p = d.path() / name;
+    std::ofstream(p, std::ios::binary) << text;
+    try {
+      sweep::load_spec(p.string());
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  const std::string scene = (scenes / "midline.json").string();
+  expect_error("a.sweep.json", fmt::format(R"({{"scene": "{}", "seeds": 2, "seeds": 3}})", scene),
+               "duplicate key seeds:");
+  expect_error("b.sweep.json",
+               fmt::format(R"({{"scene": "{}", "parameters": [{{"key": "guidance.gain", "values": [1], "key": "dt"}}]}})",
+                           scene),
+               "duplicate key parameters[0].key:");
+  expect_error("c.sweep.json", fmt::format("{{\"scene\": \"{}\"}}", scene) + std::string("\0", 1), "NUL byte");
+  std::ofstream(d.path() / "dup.json") << R"({"neurons": {"count": 10}, "neurons": {"count": 20}})";
+  expect_error("d.sweep.json", R"({"scene": "dup.json"})", "scene " + (d.path() / "dup.json").string() +
+                                                               ": duplicate key neurons:");
+  expect_error("e.sweep.json", fmt::format(R"({{"scene": "{}", "bogus\u001b[2J": 1}})", scene),
+               R"(unknown key bogus\u001b[2J ()");
+}
+
 TEST(sweep, LogGridsHitTheirEndsExactly) {
   const sweep::Spec spec = sweep::parse_spec(
       json::parse(R"({"scene": "assay-explant.json",

@@ -15,6 +15,7 @@
 #include "axonguide/assay.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/version.hpp"
 
@@ -168,11 +169,8 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
     if (!in) bad(origin, fmt::format("scene = {}: cannot read {}", scene.dump(), p.string()));
     std::stringstream ss;
     ss << in.rdbuf();
-    try {
-      s.base = json::parse(ss.str());
-    } catch (const json::exception& e) {
-      bad(origin, fmt::format("scene {}: not valid JSON ({})", p.string(), e.what()));
-    }
+    // A scene file: duplicate keys and trailing bytes are refused as parse_scene refuses them.
+    s.base = parse_json_strict(ss.str(), fmt::format("sweep {}: scene {}", origin, p.string()));
     s.base_origin = p.string();
   } else if (scene.is_object()) {
     s.base = scene;
@@ -257,13 +255,12 @@ Spec load_spec(const std::string& path) {
   if (!in) throw InputError(fmt::format("sweep {}: cannot read the file", path));
   std::stringstream ss;
   ss << in.rdbuf();
-  json j;
   try {
-    j = json::parse(ss.str());
-  } catch (const json::exception& e) {
-    throw InputError(fmt::format("sweep {}: not valid JSON ({})", path, e.what()));
+    const json j = parse_json_strict(ss.str(), fmt::format("sweep {}", path));
+    return parse_spec(j, path, fs::path(path).parent_path());
+  } catch (const InputError& e) {
+    throw InputError(printable(e.what()));  // messages quote keys and values of the files
   }
-  return parse_spec(j, path, fs::path(path).parent_path());
 }
 
 std::size_t point_count(const Spec& spec) {

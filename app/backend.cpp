@@ -5,13 +5,19 @@
 
 namespace axg::app {
 
+void require_backend(const std::string& backend) {
+  if (backend == "reference" || backend == "emulated") return;
+  if (backend == "cuda") return accel::require_cuda_device();
+  throw InputError("--backend " + backend + ": must be reference, cuda or emulated");
+}
+
 EngineFactory engine_factory(const std::string& backend) {
-  if (backend == "reference") return {};
-  if (backend == "cuda") {
-    accel::require_cuda_built();  // refuse before placement, not after
-    return [](const Scene& s, const Placement& p) { return accel::make_cuda_engine(s, p); };
-  }
-  throw InputError("--backend " + backend + ": must be reference or cuda");
+  require_backend(backend);  // refuse before placement, not after
+  if (backend == "cuda") return [](const Scene& s, const Placement& p) { return accel::make_cuda_engine(s, p); };
+  // The accelerator's pipeline compiled for the CPU (slow; for checks such as resume).
+  if (backend == "emulated")
+    return [](const Scene& s, const Placement& p) { return accel::make_emulated_engine(s, p); };
+  return {};
 }
 
 }  // namespace axg::app

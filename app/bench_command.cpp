@@ -2,6 +2,8 @@
 #include <nlohmann/json.hpp>
 #include <tbb/info.h>
 
+#include <cstdio>
+
 #include "axonguide/error.hpp"
 #include "axonguide/version.hpp"
 #include "backend.hpp"
@@ -13,15 +15,14 @@ namespace axg::app {
 namespace {
 
 void print_row(const bench::Row& r) {
-  std::string ratio = r.ratio > 0 ? fmt::format("{:8.2f}x vs {}", r.ratio, r.baseline) : "";
-  fmt::print("{:<11} {:<46} {:<40} {:>2} thr  n={:<9.3g} {:>10.4f} s  {:>10.3g} {:<13} {}{}\n", r.group, r.name, r.impl,
-             r.threads, r.size, r.seconds, r.rate, r.unit, ratio, r.note.empty() ? "" : "  (" + r.note + ")");
+  fmt::print("{}\n", bench::format_row(r));
   std::fflush(stdout);
 }
 
 }  // namespace
 
 int cmd_bench(const BenchArgs& args) {
+  require_backend(args.backend);  // before the first measurement
   bench::Options o;
   o.quick = args.quick;
   o.max_threads = args.threads;
@@ -42,11 +43,22 @@ int cmd_bench(const BenchArgs& args) {
   if (w == "bfs" || w == "all") add(bench::bfs(o));
   if (args.json) {
     nlohmann::json j = nlohmann::json::array();
-    for (const auto& r : rows)
+    for (const auto& r : rows) {
+      const bool figure = !r.failed && r.seconds > 0;
       j.push_back({{"group", r.group}, {"name", r.name}, {"impl", r.impl}, {"threads", r.threads}, {"size", r.size},
-                   {"seconds", r.seconds}, {"rate", r.rate}, {"unit", r.unit}, {"ratio", r.ratio},
-                   {"baseline", r.baseline}, {"note", r.note}});
+                   {"seconds", figure ? nlohmann::json(r.seconds) : nlohmann::json()},
+                   {"rate", figure ? nlohmann::json(r.rate) : nlohmann::json()}, {"unit", r.unit},
+                   {"ratio", figure ? nlohmann::json(r.ratio) : nlohmann::json()}, {"baseline", r.baseline},
+                   {"note", r.note}, {"failed", r.failed}});
+    }
     fmt::print("{}\n", nlohmann::json{{"version", kVersion}, {"commit", kCommit}, {"rows", j}}.dump(2));
+  }
+  std::size_t failed = 0;
+  for (const auto& r : rows) failed += r.failed;
+  if (failed) {
+    std::fprintf(stderr, "axonguide: cannot run: bench %s --backend %s: %zu of %zu measurements failed (no figure is "
+                 "reported for them)\n", args.what.c_str(), args.backend.c_str(), failed, rows.size());
+    return kExitCannotRun;
   }
   return kExitOk;
 }

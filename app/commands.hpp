@@ -10,10 +10,16 @@ struct RunArgs {
   std::string out_dir = "out";
   int threads = 0;
   std::string backend = "reference";
-  std::string seed;        // empty: the scene's
+  std::string seed;        // with seed_given: overrides the scene's
+  bool seed_given = false;
+  bool out_given = false;
   bool quiet = false;
   bool vtk = false;
+  bool force = false;      // replace the run that --out holds
+  std::string resume;      // continue the run in this folder
 };
+
+int cmd_verify(const std::string& dir);
 
 int cmd_run(const RunArgs& args);
 int cmd_scene_default();
@@ -35,6 +41,7 @@ struct ValidateArgs {
   int threads = 0;
   std::string points;
   double radius = 1.0;
+  bool allow_skip = false;  // exit 0, not 3, when a check is skipped (e.g. validate gpu without a GPU)
 };
 int cmd_validate(const ValidateArgs& args);
 

@@ -22,12 +22,15 @@ int dispatch(int argc, char** argv) {
   RunArgs run;
   auto* run_cmd = app.add_subcommand("run", "Run a scene (the built-in default when SCENE is omitted)");
   run_cmd->add_option("scene", run.scene_path, "Scene JSON file");
-  run_cmd->add_option("--out", run.out_dir, "Output directory")->capture_default_str();
+  auto* run_out = run_cmd->add_option("--out", run.out_dir, "Output directory (a run owns it)")->capture_default_str();
   run_cmd->add_option("--threads", run.threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 4096));
-  run_cmd->add_option("--backend", run.backend, "reference or cuda")
-      ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
-  run_cmd->add_option("--seed", run.seed, "Override the scene's seed (unsigned 64-bit)");
+  run_cmd->add_option("--backend", run.backend, "reference, cuda, or emulated (the accelerator's pipeline on the CPU)")
+      ->check(CLI::IsMember({"reference", "cuda", "emulated"}))->capture_default_str();
+  auto* run_seed = run_cmd->add_option("--seed", run.seed, "Override the scene's seed (unsigned 64-bit)");
+  run_cmd->add_flag("--force", run.force,
+                    "Replace the run that --out holds (removes exactly the files its manifest lists)");
+  run_cmd->add_option("--resume", run.resume, "Continue the killed or interrupted run in this folder, from its checkpoint");
   run_cmd->add_flag("--quiet,-q", run.quiet, "No summary on stdout");
   run_cmd->add_flag("--vtk", run.vtk, "Also write ParaView files (vtk/*.vtp, growth.pvd); implies output.paths");
 
@@ -61,6 +64,8 @@ int dispatch(int argc, char** argv) {
   val_cmd->add_option("--points", val.points, "samplers: test this CSV point set (one point per row, d columns)");
   val_cmd->add_option("--radius", val.radius, "samplers --points: ball radius for points that are not unit vectors")
       ->check(CLI::PositiveNumber);
+  val_cmd->add_flag("--allow-skip", val.allow_skip,
+                    "Exit 0 when a check is skipped (it could not run here, e.g. gpu without a GPU); without it, 3");
 
   GoldenArgs gold;
   auto* gold_cmd = app.add_subcommand("golden", "Golden networks: check them exactly, or regenerate them");
@@ -71,6 +76,10 @@ int dispatch(int argc, char** argv) {
   gold_cmd->add_option("--backend", gold.backend, "check: reference or cuda")
       ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
   gold_cmd->add_option("--threads", gold.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+
+  std::string verify_dir;
+  auto* verify_cmd = app.add_subcommand("verify", "Check a run's folder against its manifest: exit 0 if whole, 1 if not");
+  verify_cmd->add_option("dir", verify_dir, "Output directory of a run")->required();
 
   std::string view_dir, plot_dir;
   auto* view_cmd = app.add_subcommand("view", "Write DIR/view.html, a self-contained 3D viewer of a run");
@@ -133,7 +142,12 @@ int dispatch(int argc, char** argv) {
     return axg::kExitBadInput;
   }
 
-  if (run_cmd->parsed()) return cmd_run(run);
+  if (run_cmd->parsed()) {
+    run.seed_given = run_seed->count() > 0;
+    run.out_given = run_out->count() > 0;
+    return cmd_run(run);
+  }
+  if (verify_cmd->parsed()) return cmd_verify(verify_dir);
   if (scene_default->parsed()) return cmd_scene_default();
   if (scene_check->parsed()) return cmd_scene_check(check_path);
   if (bench_cmd->parsed()) return cmd_bench(bench);

@@ -15,6 +15,7 @@ int cmd_validate(const ValidateArgs& a) {
   o.threads = a.threads;
   o.points_file = a.points;
   o.radius = a.radius;
+  o.allow_skip = a.allow_skip;
   if (!a.points.empty() && a.what != "samplers")
     throw InputError("--points: only `validate samplers` takes a point file");
   return validate::run_validation(a.what, a.report, o);
@@ -22,6 +23,7 @@ int cmd_validate(const ValidateArgs& a) {
 
 int cmd_golden(const GoldenArgs& a) {
   const std::filesystem::path dir = a.dir.empty() ? validate::default_golden_dir() : std::filesystem::path(a.dir);
+  if (a.action == "check") require_backend(a.backend);  // before any network is run
   const int threads = resolve_threads(a.threads);
   if (a.action == "bless") {
     const auto changed = validate::golden_bless(dir, a.reason, threads, a.only);

@@ -21,7 +21,18 @@ struct Row {
   double ratio = 0;     // rate relative to the peer named in `baseline` (0: none)
   std::string baseline;
   std::string note;
+  // The run failed (no figure is reported: seconds, rate and ratio are 0); `note` says why.
+  // The command then exits 3.
+  bool failed = false;
 };
+
+// One line of the table `axonguide bench` prints. A failed or skipped row has no figure:
+// only what was attempted and the note saying why.
+std::string format_row(const Row& r);
+
+// The row of a measurement that failed: no figure, the reason in the note.
+Row failed_row(std::string group, std::string name, std::string impl, int threads, double size, std::string unit,
+               std::string why);
 
 struct Options {
   bool quick = false;
@@ -52,7 +63,8 @@ Paired time_paired(const std::function<void()>& peer, const std::function<void()
 Scene paper_direct_scene(std::uint64_t neurons);
 
 // Runs `axonguide run` on a scene in a child process (so that its peak memory is its
-// own) and returns wall time, exit status and peak memory from its manifest.
+// own) and returns wall time, exit status (-1: not started or killed) and peak memory
+// from its manifest. A run that did not exit 0 is a failed row, never a figure.
 struct ChildRun {
   double seconds = 0;
   double peak_bytes = 0;

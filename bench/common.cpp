@@ -2,9 +2,28 @@
 #include <chrono>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "bench.hpp"
 
 namespace axg::bench {
+
+std::string format_row(const Row& r) {
+  const std::string what =
+      fmt::format("{:<11} {:<46} {:<40} {:>2} thr  n={:<9.3g}", r.group, r.name, r.impl, r.threads, r.size);
+  if (r.failed || r.seconds <= 0) return what + " " + r.note;
+  const std::string ratio = r.ratio > 0 ? fmt::format("{:8.2f}x vs {}", r.ratio, r.baseline) : "";
+  return fmt::format("{} {:>10.4f} s  {:>10.3g} {:<13} {}{}", what, r.seconds, r.rate, r.unit, ratio,
+                     r.note.empty() ? "" : "  (" + r.note + ")");
+}
+
+Row failed_row(std::string group, std::string name, std::string impl, int threads, double size, std::string unit,
+               std::string why) {
+  Row r{std::move(group), std::move(name), std::move(impl), threads, size, 0, 0, std::move(unit), 0, "",
+        "FAILED: " + why};
+  r.failed = true;
+  return r;
+}
 
 double time_median(const std::function<void()>& fn, int repeats, double budget_seconds) {
   std::vector<double> t;

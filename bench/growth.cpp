@@ -121,8 +121,8 @@ std::vector<Row> growth(const Options& o) {
           secs.push_back(g.seconds);
         }
       } catch (const RunError& e) {
-        emit({"growth", "direct growth with wandering, constant density", "axonguide " + o.backend, threads, double(n), 0, 0,
-              "axon-steps/s", 0, "", std::string("skipped: ") + e.what()});
+        emit(failed_row("growth", "direct growth with wandering, constant density", "axonguide " + o.backend, threads,
+                        double(n), "axon-steps/s", e.what()));
         continue;
       }
       std::sort(secs.begin(), secs.end());
@@ -149,22 +149,32 @@ std::vector<Row> growth(const Options& o) {
             "axon-steps/s", ratio, baseline, note});
     }
   }
-  // End to end (placement, steps, graph, every output file), as a user runs it.
+  // End to end (placement, steps, graph, every output file), as a user runs it. A run
+  // that did not exit 0 has no time to report.
   {
     const Scene scene = paper_direct_scene(5000);
     const ChildRun c = run_child(scene, max_threads, o.backend);
-    emit({"end-to-end", "paper-direct-5000 (report Table 4: 285.43 s)", "axonguide " + o.backend, max_threads, 5000,
-          c.seconds, 5000 / c.seconds, "neurons/s", 285.43 / c.seconds, "report Table 4",
-          fmt::format("exit {}, peak {:.0f} MiB", c.status, c.peak_bytes / 1048576.0)});
+    const std::string name = "paper-direct-5000 (report Table 4: 285.43 s)";
+    if (c.status != 0)
+      emit(failed_row("end-to-end", name, "axonguide " + o.backend, max_threads, 5000, "neurons/s",
+                      fmt::format("axonguide run exited {}", c.status)));
+    else
+      emit({"end-to-end", name, "axonguide " + o.backend, max_threads, 5000, c.seconds, 5000 / c.seconds, "neurons/s",
+            285.43 / c.seconds, "report Table 4", fmt::format("exit 0, peak {:.0f} MiB", c.peak_bytes / 1048576.0)});
   }
   {
     const std::uint64_t n = o.quick ? 100000 : 1000000;
     const Scene scene = paper_direct_scene(n);
     const ChildRun c = run_child(scene, max_threads, o.backend);
-    emit({"end-to-end", fmt::format("{} neurons, all outputs", n), "axonguide " + o.backend, max_threads, double(n),
-          c.seconds, n / c.seconds, "neurons/s", 0, "",
-          fmt::format("exit {}, peak {:.0f} MiB = {:.0f} bytes per neuron", c.status, c.peak_bytes / 1048576.0,
-                      c.peak_bytes / n)});
+    const std::string name = fmt::format("{} neurons, all outputs", n);
+    if (c.status != 0)
+      emit(failed_row("end-to-end", name, "axonguide " + o.backend, max_threads, double(n), "neurons/s",
+                      fmt::format("axonguide run exited {}", c.status)));
+    else
+      emit({"end-to-end", name, "axonguide " + o.backend, max_threads, double(n), c.seconds, n / c.seconds, "neurons/s",
+            0, "",
+            fmt::format("exit 0, peak {:.0f} MiB = {:.0f} bytes per neuron", c.peak_bytes / 1048576.0,
+                        c.peak_bytes / n)});
   }
   return rows;
 }

@@ -4,7 +4,8 @@
 # shared library they need that is not part of the C runtime, and the files they read at
 # run time (scenes, golden networks, test tables and scripts, plot scripts, the viewer and
 # three.js). On the target:
-#   bundle/run-tests.sh [GTEST_ARGS]   every test binary, golden check, validate --quick
+#   bundle/run-tests.sh [--allow-skip] [GTEST_ARGS]   every test binary, golden check on both
+#                                      backends, validate gpu; a skip exits 3 (scripts/bundle-run-tests.sh)
 #   bundle/axonguide ARGS              the command, with the bundle's paths set
 #   scripts/bundle.sh [BUILD_DIR] [BUNDLE_DIR]      (defaults: build, bundle)
 set -euo pipefail
@@ -47,23 +48,6 @@ cat > "$out/axonguide" <<'RUN'
 source "$(dirname "$0")/env.sh"
 exec "$here/bin/axonguide" "$@"
 RUN
-cat > "$out/run-tests.sh" <<'RUN'
-#!/usr/bin/env bash
-# Every test binary of the bundle (GPU tests included), the golden networks and the quick
-# validation; one line each. Arguments go to the test binaries (e.g. --gtest_filter=...).
-set -u
-source "$(dirname "$0")/env.sh"
-status=0
-for t in "$here"/tests/*_test; do
-  if "$t" "$@" > "$t.log" 2>&1; then echo "PASS $(basename "$t")"; else echo "FAIL $(basename "$t") (see $t.log)"; status=1; fi
-done
-if "$here/bin/axonguide" golden check --dir "$here/data/golden" > "$here/golden.log" 2>&1; then echo "PASS golden check"; else echo "FAIL golden check (see $here/golden.log)"; status=1; fi
-if "$here/bin/axonguide" validate all --quick --report "$here/validation" > "$here/validation.log" 2>&1; then
-  echo "PASS validate all --quick ($here/validation/report.md)"
-else
-  echo "FAIL validate all --quick (see $here/validation.log)"; status=1
-fi
-exit $status
-RUN
+cp scripts/bundle-run-tests.sh "$out/run-tests.sh"
 chmod +x "$out/axonguide" "$out/run-tests.sh"
 du -sh "$out" | awk '{print "bundle.sh: " $2 " is " $1}'

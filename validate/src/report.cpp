@@ -127,17 +127,27 @@ void Report::plot(const std::string& script, const std::vector<std::string>& csv
 
 bool Report::passed() const {
   for (const auto& c : checks_)
-    if (!c.pass) return false;
+    if (!c.pass || c.skipped) return false;
   return true;
 }
 
-int Report::finish() {
+std::size_t Report::skipped() const {
+  std::size_t n = 0;
+  for (const auto& c : checks_) n += c.skipped;
+  return n;
+}
+
+int Report::finish(bool allow_skip) {
   std::ofstream md(dir_ / "report.md");
-  std::size_t failed = 0, skipped = 0;
-  for (const auto& c : checks_) failed += !c.pass, skipped += c.skipped;
+  std::size_t failed = 0;
+  const std::size_t skipped = this->skipped();
+  for (const auto& c : checks_) failed += !c.pass;
+  // A skipped check proved nothing: the report is SKIPPED, not PASS, even when allowed.
+  const char* result = failed ? "FAIL" : skipped ? "SKIPPED" : "PASS";
+  const std::string allowed = !failed && skipped && allow_skip ? ", allowed by --allow-skip" : "";
   md << "# " << title_ << "\n\n";
-  md << fmt::format("axonguide {} ({}). **{}**: {} checks, {} failed, {} skipped.\n\n", kVersion, kCommit,
-                    failed ? "FAIL" : "PASS", checks_.size(), failed, skipped);
+  md << fmt::format("axonguide {} ({}). **{}**{}: {} checks, {} failed, {} skipped.\n\n", kVersion, kCommit, result,
+                    allowed, checks_.size(), failed, skipped);
   if (!checks_.empty()) {
     md << "| check | result | measured | criterion | margin |\n|---|---|---|---|---|\n";
     for (const auto& c : checks_)
@@ -155,9 +165,13 @@ int Report::finish() {
     if (!c.pass)
       std::fprintf(stderr, "FAILED %s: measured %s; required %s (%s)\n", c.name.c_str(), c.measured.c_str(),
                    c.criterion.c_str(), c.margin.c_str());
-  std::printf("%s: %s (%zu checks, %zu failed, %zu skipped) -> %s\n", title_.c_str(), failed ? "FAIL" : "PASS",
+    else if (c.skipped)
+      std::fprintf(stderr, "SKIPPED %s: %s\n", c.name.c_str(), c.criterion.c_str());
+  std::printf("%s: %s%s (%zu checks, %zu failed, %zu skipped) -> %s\n", title_.c_str(), result, allowed.c_str(),
               checks_.size(), failed, skipped, (dir_ / "report.md").c_str());
-  return failed ? 1 : 0;
+  std::fflush(stdout);
+  if (failed) return kExitCheckFailed;
+  return skipped && !allow_skip ? kExitCannotRun : kExitOk;
 }
 
 }  // namespace axg::validate

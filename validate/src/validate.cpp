@@ -1,6 +1,7 @@
 #include "axonguide/validate/validate.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 
@@ -32,14 +33,28 @@ const Study kStudies[] = {
     {"gpu", "Reference against the CUDA accelerator", validate_gpu},
 };
 
-int run_one(const Study& s, const fs::path& dir, const Options& o, double* seconds) {
+struct Outcome {
+  int code;             // Report::finish's
+  std::size_t skipped;  // checks that could not run
+  double seconds;
+};
+
+Outcome run_one(const Study& s, const fs::path& dir, const Options& o) {
   Report r(dir, s.title);
   const auto t0 = std::chrono::steady_clock::now();
   if (std::string(s.name) == "samplers" && !o.points_file.empty()) validate_points_file(o, r);
   else s.run(o, r);
-  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.text(fmt::format("Run time: {:.1f} s{}.", *seconds, o.quick ? " (--quick)" : ""));
-  return r.finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.text(fmt::format("Run time: {:.1f} s{}.", seconds, o.quick ? " (--quick)" : ""));
+  const int code = r.finish(o.allow_skip);
+  return {code, r.skipped(), seconds};
+}
+
+void say_skipped(std::size_t skipped) {
+  std::fprintf(stderr,
+               "axonguide: validate: SKIPPED: %zu check(s) could not run here, so they prove nothing; exit 3 (pass "
+               "--allow-skip to accept skips)\n",
+               skipped);
 }
 
 }  // namespace
@@ -48,24 +63,36 @@ int run_validation(const std::string& what, const std::string& dir, const Option
   if (what != "all") {
     for (const Study& s : kStudies)
       if (what == s.name) {
-        double secs;
-        return run_one(s, fs::path(dir) / s.name, o, &secs);
+        const Outcome out = run_one(s, fs::path(dir) / s.name, o);
+        if (out.code == kExitCannotRun) say_skipped(out.skipped);
+        return out.code;
       }
     throw InputError("validate: unknown study '" + what + "'");
   }
   std::string index = fmt::format("# axonguide validation\n\naxonguide {} ({}){}.\n\n| study | result | time |\n|---|---|---|\n",
                                   kVersion, kCommit, o.quick ? ", --quick" : "");
-  int worst = 0;
+  bool failed = false;
+  std::size_t skipped = 0;
   for (const Study& s : kStudies) {
-    double secs = 0;
-    const int rc = run_one(s, fs::path(dir) / s.name, o, &secs);
-    worst = std::max(worst, rc);
-    index += fmt::format("| [{}]({}/report.md) | {} | {:.1f} s |\n", s.title, s.name, rc ? "**FAIL**" : "pass", secs);
+    const Outcome out = run_one(s, fs::path(dir) / s.name, o);
+    failed = failed || out.code == kExitCheckFailed;
+    skipped += out.skipped;
+    index += fmt::format("| [{}]({}/report.md) | {} | {:.1f} s |\n", s.title, s.name,
+                         out.code == kExitCheckFailed ? "**FAIL**"
+                         : out.skipped                ? fmt::format("SKIPPED ({} checks)", out.skipped)
+                                                      : "pass",
+                         out.seconds);
   }
   fs::create_directories(dir);
   std::ofstream(fs::path(dir) / "report.md") << index;
-  std::printf("validation: %s -> %s/report.md\n", worst ? "FAIL" : "PASS", dir.c_str());
-  return worst;
+  std::printf("validation: %s%s -> %s/report.md\n", failed ? "FAIL" : skipped ? "SKIPPED" : "PASS",
+              !failed && skipped && o.allow_skip ? ", allowed by --allow-skip" : "", dir.c_str());
+  if (failed) return kExitCheckFailed;
+  if (skipped && !o.allow_skip) {
+    say_skipped(skipped);
+    return kExitCannotRun;
+  }
+  return kExitOk;
 }
 
 }  // namespace axg::validate

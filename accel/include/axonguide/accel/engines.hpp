@@ -17,6 +17,19 @@ namespace axg::accel {
 bool cuda_built();
 // Throws InputError (exit 2) saying the CUDA engine was not built, when it was not.
 void require_cuda_built();
+// Throws InputError (exit 2) when the CUDA engine was not built, and RunError (exit 3)
+// when it cannot run here: "no NVIDIA driver found" (libcuda.so.1 absent), a driver older
+// than the runtime, no device, or a GPU whose compute capability the build has no code for.
+void require_cuda_device();
+
+// CMake's CUDA_ARCHITECTURES of this build, comma-separated ("80-real,90-real,90-virtual");
+// empty when the CUDA engine was not built.
+std::string cuda_architectures();
+// Empty when code built for `archs` (as above) runs on a GPU of compute capability
+// major.minor; otherwise why not, naming the compute capability. SASS sm_XY runs on X.Y
+// to X.9 (sm_XYa on X.Y only); PTX compute_XY on X.Y and newer, through the driver's JIT.
+// Lists CMake resolves itself (native, all, all-major) are not judged here: empty.
+std::string cuda_arch_refusal(int major, int minor, const std::string& archs);
 
 // The CUDA engine. Throws InputError when it was not built (exit 2) and RunError (exit
 // 3) when no usable GPU is present (with the CUDA error text) or when the scene's device

@@ -30,15 +30,20 @@ class Report {
   void csv(const std::string& name, const std::vector<std::string>& header,
            const std::vector<std::vector<std::string>>& rows);
   void check(Check c);
+  // A check that could not run here (no GPU, too few data): recorded as SKIPPED, never a pass.
   void skip(const std::string& name, const std::string& reason);
   // Runs `python3 PLOTS/script.py CSV... PNG`; embeds the PNG, or notes why there is none.
   void plot(const std::string& script, const std::vector<std::string>& csv_names, const std::string& png_name,
             const std::string& caption);
 
   const std::vector<Check>& checks() const { return checks_; }
+  // Every check ran and passed (a skipped check is not a pass).
   bool passed() const;
-  // Writes report.md and checks.csv; returns the process exit code (0 pass, 1 fail).
-  int finish();
+  std::size_t skipped() const;
+  // Writes report.md and checks.csv; returns the process exit code: 1 when a check failed,
+  // else 3 when one was skipped (it could not run here) unless allow_skip, else 0. The
+  // report says SKIPPED, not PASS, when a check was skipped, allowed or not.
+  int finish(bool allow_skip = false);
   const std::filesystem::path& dir() const { return dir_; }
 
  private:

@@ -13,6 +13,7 @@ struct Options {
   int threads = 0;           // 0: all cores
   std::string points_file;   // samplers: test an external point set instead
   double radius = 1.0;       // samplers --points: ball radius when the points are not unit vectors
+  bool allow_skip = false;   // a skipped check (no GPU, too few data) exits 0 instead of 3
 };
 
 void validate_samplers(const Options& o, Report& r);
@@ -25,7 +26,8 @@ void validate_assay(const Options& o, Report& r);
 void validate_bfs(const Options& o, Report& r);
 void validate_gpu(const Options& o, Report& r);
 
-// Runs one study (or "all") into `dir`; returns the exit code (0 pass, 1 a check failed).
+// Runs one study (or "all") into `dir`; returns the exit code: 0 pass, 1 a check failed,
+// 3 a check was skipped (it could not run here) and allow_skip is not set.
 int run_validation(const std::string& what, const std::string& dir, const Options& o);
 
 // One SNR decision of the real steering function for one exact cue with occupancy gamma

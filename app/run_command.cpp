@@ -1,22 +1,33 @@
+#include <signal.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
 
+#include "axonguide/checkpoint.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/placement.hpp"
 #include "axonguide/run.hpp"
+#include "axonguide/run_folder.hpp"
 #include "axonguide/threads.hpp"
 #include "axonguide/version.hpp"
 #include "backend.hpp"
 #include "commands.hpp"
 
 namespace axg::app {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
 
 namespace {
 
@@ -130,39 +141,202 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
              r.times.total("graph"));
 }
 
+// SIGINT and SIGTERM set a flag; the run stops at the end of the current step.
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void on_stop_signal(int sig) {
+  if (g_signal == 0) {
+    static const char msg[] = "\naxonguide: stopping at the end of the current step (checkpoint, then exit)\n";
+    [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+  }
+  g_signal = sig;
+}
+
+class StopSignals {
+ public:
+  StopSignals() {
+    g_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    ::sigaction(SIGINT, &sa, &old_int_);
+    ::sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    ::sigaction(SIGINT, &old_int_, nullptr);
+    ::sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  static int received() { return g_signal; }
+  static int exit_code() { return 128 + g_signal; }  // 130 for SIGINT, 143 for SIGTERM
+  static const char* name() { return g_signal == SIGINT ? "SIGINT" : g_signal == SIGTERM ? "SIGTERM" : "a signal"; }
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
+
+// The files a run of this scene writes (a running manifest lists them, so that --force
+// can remove what a killed run left).
+json planned_files(const Scene& s) {
+  json names = {"neurons.csv", "connections.csv", "stats.csv", "graph.graphml", "timings.csv"};
+  if (!s.analysis.bfs_sources.empty() || s.analysis.components) names.push_back("bfs.csv");
+  if (s.output.paths) names.push_back("paths.csv");
+  if (s.uses_cues()) names.push_back("sources.csv");
+  if ((s.output.paths || s.output.vtk) && s.uses_cues() && s.cues.field == FieldKind::kParticles)
+    names.push_back("particles.csv");
+  if (s.output.vtk) {
+    names.push_back("growth.pvd");
+    names.push_back("vtk/*.vtp");
+  }
+  return names;
+}
+
+struct Job {
+  Scene scene;
+  std::vector<std::string> warnings;
+  std::string origin;
+  std::optional<RunCheckpoint> checkpoint;
+};
+
+// `run --resume DIR`: the scene, warnings and checkpoint of the unfinished run in DIR.
+Job resume_job(const RunArgs& args, const fs::path& dir) {
+  const json m = read_manifest(dir);
+  const std::string status = m.value("status", std::string("complete"));
+  Job job;
+  job.origin = fmt::format("resumed from {}", dir.string());
+  const json& by = m.contains("axonguide") ? m["axonguide"] : json::object();
+  if (by.value("version", std::string()) != kVersion || by.value("commit", std::string()) != kCommit)
+    throw InputError(fmt::format("--resume {}: the run was started by axonguide {} ({}); this is {} ({}); a resume "
+                                 "must use the same build, or give --force to start over",
+                                 dir.string(), by.value("version", std::string("?")), by.value("commit", std::string("?")),
+                                 kVersion, kCommit));
+  if (!m.contains("scene")) throw InputError(fmt::format("--resume {}: the manifest holds no scene", dir.string()));
+  ParseResult parsed = parse_scene(m["scene"].dump(), (dir / kManifestName).string());
+  job.scene = parsed.scene;
+  if (m.contains("warnings") && m["warnings"].is_array())
+    for (const auto& w : m["warnings"])
+      if (w.is_string()) job.warnings.push_back(w.get<std::string>());
+  if (!args.scene_path.empty()) {
+    Scene given = load_scene_file(args.scene_path).scene;
+    if (scene_hash(given) != scene_hash(job.scene))
+      throw InputError(fmt::format("--resume {}: {} is not the scene of this run (its canonical form differs); "
+                                   "resume without a scene, or start a new run",
+                                   dir.string(), args.scene_path));
+  }
+  if (status == "complete") return job;  // the caller verifies and reports it
+  if (status != "running" && status != "interrupted")
+    throw InputError(fmt::format("--resume {}: manifest status \"{}\" is not a run's", dir.string(), printable(status)));
+  std::error_code ec;
+  if (fs::exists(dir / kCheckpointName, ec)) {
+    RunCheckpoint c = read_checkpoint(dir / kCheckpointName);
+    if (c.version != kVersion || c.commit != kCommit)
+      throw InputError(fmt::format("--resume {}: the checkpoint was written by axonguide {} ({}); this is {} ({})",
+                                   dir.string(), c.version, c.commit, kVersion, kCommit));
+    if (c.scene_hash != scene_hash(job.scene))
+      throw InputError(fmt::format("--resume {}: the checkpoint was written for another scene than the manifest's",
+                                   dir.string()));
+    job.checkpoint = std::move(c);
+  }
+  return job;
+}
+
 }  // namespace
 
 int cmd_run(const RunArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
-  ParseResult parsed;
-  std::string origin;
-  if (args.scene_path.empty()) {
-    parsed.scene = Scene::builtin_default();
-    origin = "built-in default";
-  } else {
-    parsed = load_scene_file(args.scene_path);
-    origin = args.scene_path;
+  const bool resuming = !args.resume.empty();
+  const fs::path dir = resuming ? fs::path(args.resume) : fs::path(args.out_dir);
+  if (resuming) {
+    if (args.out_given && fs::path(args.out_dir) != dir)
+      throw InputError("--resume DIR writes into DIR: give no --out (or the same folder)");
+    if (args.seed_given) throw InputError("--seed with --resume: the seed is the one the run started with");
+    if (args.force) throw InputError("--force with --resume: give one (--force starts over, --resume continues)");
+    if (args.vtk) throw InputError("--vtk with --resume: the outputs are the ones the run started with");
+    if (!fs::is_directory(dir)) throw InputError(fmt::format("--resume {}: not a directory", dir.string()));
   }
-  Scene scene = parsed.scene;
-  if (!args.seed.empty()) scene.seed = parse_seed(args.seed);
-  if (args.vtk) {
-    scene.output.vtk = true;
-    resolve_output_dependencies(scene, parsed.warnings);
+  Job job;
+  if (!resuming) {
+    ParseResult parsed;
+    if (args.scene_path.empty()) {
+      parsed.scene = Scene::builtin_default();
+      job.origin = "built-in default";
+    } else {
+      parsed = load_scene_file(args.scene_path);
+      job.origin = args.scene_path;
+    }
+    job.scene = parsed.scene;
+    job.warnings = parsed.warnings;
+    if (args.seed_given) job.scene.seed = parse_seed(args.seed);
+    if (args.vtk) {
+      job.scene.output.vtk = true;
+      resolve_output_dependencies(job.scene, job.warnings);
+    }
   }
-  for (const auto& w : parsed.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
-
+  // Everything that can refuse the run does so before the folder is created or touched.
+  require_backend(args.backend);
   RunOptions options;
   options.make_engine = engine_factory(args.backend);
   const int threads = resolve_threads(args.threads);
-  prepare_output_dir(args.out_dir);
+  if (!resuming) check_memory_estimate(estimate_run_bytes(job.scene), fmt::format("a run of {} neurons", job.scene.neurons.count));
+  prepare_output_dir(dir);
+  FolderLock lock(dir);
+  if (resuming) {
+    job = resume_job(args, dir);
+    const FolderCheck check = verify_run_folder(dir);
+    if (check.status == "complete") {
+      if (!check.whole)
+        throw InputError(fmt::format("--resume {}: holds a complete run that does not verify (see `axonguide verify "
+                                     "{}`); give --force to replace it",
+                                     dir.string(), dir.string()));
+      if (!args.quiet) fmt::print("{} already holds a complete run that verifies; nothing to resume\n", dir.string());
+      return kExitOk;
+    }
+    if (!job.checkpoint && !args.quiet)
+      std::fprintf(stderr, "axonguide: note: %s has no checkpoint yet; the run starts again from step 0\n", dir.c_str());
+    remove_stale_temporaries(dir);
+  } else {
+    for (const auto& name : claim_run_folder(dir, args.force))
+      if (is_run_output(name) || name == "view.html" || name.rfind("assay", 0) == 0)
+        std::fprintf(stderr, "axonguide: warning: %s/%s is not this run's (the manifest will not list it)\n", dir.c_str(),
+                     name.c_str());
+  }
+  for (const auto& w : job.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
+  const Scene& scene = job.scene;
+  json running = manifest_header(scene, args.backend, threads, job.warnings);
+  running["status"] = "running";
+  running["planned"] = planned_files(scene);
+  running["files"] = json::object();
+  if (!resuming) write_manifest(dir, running);
 
+  StopSignals signals;
   Progress progress;
   options.on_step = [&](const StepStats& s, std::uint32_t steps) { progress.update(s, steps); };
-  RunResult result = with_threads(threads, [&] {
-    RunResult r = run_scene(scene, options);
-    write_outputs(r, args.out_dir, args.backend, threads, parsed.warnings);
-    return r;
-  });
+  options.resume = job.checkpoint ? &*job.checkpoint : nullptr;
+  options.on_checkpoint = [&](const RunResult& r, std::uint32_t step, const EngineState& e) {
+    write_checkpoint(dir, r, step, e);
+  };
+  options.stop_requested = [] { return StopSignals::received() != 0; };
+  RunResult result;
+  try {
+    result = with_threads(threads, [&] {
+      RunResult r = run_scene(scene, options);
+      write_outputs(r, dir, args.backend, threads, job.warnings);
+      return r;
+    });
+  } catch (const Interrupted& stop) {
+    json m = running;
+    m["status"] = "interrupted";
+    m["interrupted"] = {{"signal", StopSignals::name()}, {"after_step", stop.step}};
+    m["checkpoint"] = {{"file", kCheckpointName}, {"step", stop.step}, {"sha256", sha256_file(dir / kCheckpointName)}};
+    write_manifest(dir, m);
+    std::fprintf(stderr,
+                 "axonguide: interrupted by %s after step %u of %u; the checkpoint is in %s/%s. Continue with: "
+                 "axonguide run --resume %s\n",
+                 StopSignals::name(), stop.step, scene.steps, dir.c_str(), kCheckpointName, dir.c_str());
+    return StopSignals::exit_code();
+  }
+  std::error_code ec;
+  fs::remove(dir / kCheckpointName, ec);  // the run is whole: the checkpoint is not needed
   for (const ParticleFrame& fr : result.frames)
     if (fr.stride > 1)
       std::fprintf(stderr,
@@ -171,10 +345,32 @@ int cmd_run(const RunArgs& args) {
                    fr.step, static_cast<unsigned long long>(fr.count), fr.stride);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!args.quiet) {
-    print_summary(result, args, threads, origin, wall);
-    fmt::print("outputs   {}/ (manifest.json lists every file with its SHA-256)\n", args.out_dir);
+    print_summary(result, args, threads, job.checkpoint ? fmt::format("{} (checkpoint at step {})", job.origin,
+                                                                       job.checkpoint->step)
+                                                         : job.origin,
+                  wall);
+    fmt::print("outputs   {}/ (manifest.json lists every file with its SHA-256)\n", dir.string());
+  }
+  if (StopSignals::received()) {
+    std::fprintf(stderr, "axonguide: %s arrived after the last step; the outputs were finished first, and %s is a "
+                         "whole run\n", StopSignals::name(), dir.c_str());
+    return StopSignals::exit_code();
   }
   return kExitOk;
+}
+
+int cmd_verify(const std::string& dir) {
+  const FolderCheck c = verify_run_folder(dir);
+  for (const auto& n : c.notes) fmt::print("note: {}\n", n);
+  if (c.whole) {
+    const std::size_t files = c.manifest["files"].size();
+    fmt::print("{}: a whole run: status complete, {} file{} with the SHA-256 their manifest lists\n", dir, files,
+               files == 1 ? "" : "s");
+    return kExitOk;
+  }
+  fmt::print("{}: not a whole run:\n", dir);
+  for (const auto& p : c.problems) fmt::print("  - {}\n", p);
+  return kExitCheckFailed;
 }
 
 int cmd_scene_default() {

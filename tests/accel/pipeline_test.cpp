@@ -56,6 +56,7 @@ TEST(accel, TheEmulatedEngineRunsItsOwnGraphKernels) {
   s.neurons.count = 300;
   const Placement p = place_neurons(s);
   auto engine = accel::make_emulated_engine(s, p);
+  engine->warm_up();
   PhaseTimes t;
   for (std::uint32_t step = 1; step <= 20; ++step) engine->step(step, t);
   NeuronState state;

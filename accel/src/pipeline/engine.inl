@@ -34,10 +34,72 @@ class AccelEngine final : public Engine {
     thrust::sequence(active_.begin(), active_.end());
     active_next_.resize(n);
     if (modulates_growth(scene)) step_length_.assign(n, growth_.step_length);
-    if (scene.uses_cues()) {
-      init_field();
-      PhaseTimes warmup;  // before the step loop: not part of any step's timings
-      for (std::uint32_t s = 1; s <= scene.cues.warmup_steps; ++s) advance_field(s, warmup);
+    if (scene.uses_cues()) init_field();
+  }
+
+  void warm_up() override {
+    if (!scene_.uses_cues()) return;
+    PhaseTimes warmup;  // before the step loop: not part of any step's timings
+    for (std::uint32_t s = 1; s <= scene_.cues.warmup_steps; ++s) advance_field(s, warmup);
+  }
+
+  void save(EngineState& out) override {
+    const std::size_t n = tip_.size();
+    out.axons.resize(n);
+    out.heading.resize(n);
+    download_by_id(tip_, out.axons.tip);
+    download_by_id(length_, out.axons.length);
+    download_by_id(status_, out.axons.status);
+    download_by_id(steps_, out.axons.steps);
+    download_by_id(target_, out.axons.target);
+    download_by_id(heading_, out.heading);
+    out.step_length.resize(step_length_.size());
+    if (!step_length_.empty()) download_by_id(step_length_, out.step_length);
+    out.connected = stats_.connected;
+    out.exited = stats_.exited;
+    out.next_particle_id = next_id_;
+    copy_out(pos_, out.particle_pos);
+    copy_out(vel_, out.particle_vel);
+    copy_out(id_, out.particle_id);
+    copy_out(source_, out.particle_cue);
+    out.grid.clear();
+    if (scene_.uses_cues() && scene_.cues.field == FieldKind::kGrid) {
+      const std::size_t nodes = grid_geometry_.nodes();
+      out.grid.resize(cues_host_.size() * nodes);
+      for (std::size_t k = 0; k < cues_host_.size(); ++k)
+        thrust::copy(grid_[cur_[k]].begin() + static_cast<std::ptrdiff_t>(k * nodes),
+                     grid_[cur_[k]].begin() + static_cast<std::ptrdiff_t>((k + 1) * nodes),
+                     out.grid.begin() + static_cast<std::ptrdiff_t>(k * nodes));
+    }
+  }
+
+  // The growing list is every growing slot in slot order (what compaction leaves); the
+  // particle grid is rebuilt by the next step's advance before anything reads it.
+  void load(const EngineState& in) override {
+    upload_by_id(in.axons.tip, tip_);
+    upload_by_id(in.axons.length, length_);
+    upload_by_id(in.axons.status, status_);
+    upload_by_id(in.axons.steps, steps_);
+    upload_by_id(in.axons.target, target_);
+    upload_by_id(in.heading, heading_);
+    if (!step_length_.empty()) upload_by_id(in.step_length, step_length_);
+    const std::size_t n = tip_.size();
+    active_.resize(n);
+    const auto end = thrust::copy_if(thrust::device, thrust::counting_iterator<std::uint32_t>(0),
+                                     thrust::counting_iterator<std::uint32_t>(static_cast<std::uint32_t>(n)),
+                                     active_.begin(), StatusIs{raw(status_), core::AxonStatus::kGrowing});
+    active_.resize(static_cast<std::size_t>(end - active_.begin()));
+    active_next_.resize(active_.capacity());
+    stats_.connected = in.connected;
+    stats_.exited = in.exited;
+    next_id_ = in.next_particle_id;
+    pos_.assign(in.particle_pos.begin(), in.particle_pos.end());
+    vel_.assign(in.particle_vel.begin(), in.particle_vel.end());
+    id_.assign(in.particle_id.begin(), in.particle_id.end());
+    source_.assign(in.particle_cue.begin(), in.particle_cue.end());
+    if (!in.grid.empty()) {
+      thrust::copy(in.grid.begin(), in.grid.end(), grid_[0].begin());
+      cur_.assign(cues_host_.size(), 0);
     }
   }
 
@@ -148,6 +210,18 @@ class AccelEngine final : public Engine {
     dvec<T> by_id(by_slot.size());
     launch(by_slot.size(), ScatterBy<T>{raw(by_slot), raw(ids_), raw(by_id)});
     thrust::copy(by_id.begin(), by_id.end(), out.begin());
+  }
+
+  template <class T>
+  void upload_by_id(const std::vector<T>& by_id, dvec<T>& by_slot) {
+    const dvec<T> d_in(by_id.begin(), by_id.end());
+    launch(by_slot.size(), GatherBy<T>{raw(d_in), raw(ids_), raw(by_slot)});
+  }
+
+  template <class T>
+  static void copy_out(const dvec<T>& in, std::vector<T>& out) {
+    out.resize(in.size());
+    thrust::copy(in.begin(), in.end(), out.begin());
   }
 
   void build_somas(const Placement& placement) {

@@ -29,6 +29,13 @@ void summarize_components(GraphAnalysis& a);
 class Engine {
  public:
   virtual ~Engine() = default;
+  // The cue fields' warm-up before step 1 (cues.warmup_steps). A resumed engine is
+  // loaded instead.
+  virtual void warm_up() = 0;
+  // The state after the last step (save) and its restoration into an engine freshly
+  // built for the same scene and placement (load): checkpoints and resume.
+  virtual void save(EngineState& out) = 0;
+  virtual void load(const EngineState& in) = 0;
   // Runs every stage of step `step` (1-based) and returns the counts after it.
   virtual StepStats step(std::uint32_t step, PhaseTimes& times) = 0;
   // Current tips of all axons (for output.paths); only called when paths are recorded.

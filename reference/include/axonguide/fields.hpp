@@ -28,6 +28,10 @@ class CueField {
     cue.clear();
   }
   virtual std::size_t bytes() const = 0;
+  // The field's state for a checkpoint (EngineState's particle or grid part), and its
+  // restoration; the exact fields hold none.
+  virtual void save(EngineState&) const {}
+  virtual void load(const EngineState&) {}
   // A line for the summary and the manifest (e.g. explicit sub-steps), or empty.
   virtual std::string note() const { return {}; }
 };

@@ -34,6 +34,20 @@ class AtomicFile {
 // Writes a whole file atomically (AtomicFile, write, commit); returns its SHA-256.
 std::string write_file_atomically(const std::filesystem::path& dir, const std::string& name, std::string_view text);
 
+// Incremental SHA-256 (OpenSSL EVP).
+class Sha256 {
+ public:
+  Sha256();
+  ~Sha256();
+  Sha256(const Sha256&) = delete;
+  Sha256& operator=(const Sha256&) = delete;
+  void update(std::string_view bytes);
+  std::string hex();  // of everything updated so far; call once
+
+ private:
+  void* ctx_;  // EVP_MD_CTX
+};
+
 // Hex SHA-256 of a file's bytes (OpenSSL EVP).
 std::string sha256_file(const std::filesystem::path& path);
 std::string sha256_hex(std::string_view bytes);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -19,11 +20,31 @@ namespace axg {
 using EngineFactory =
     std::function<std::unique_ptr<Engine>(const Scene&, const Placement&)>;
 
+struct RunResult;
+struct RunCheckpoint;
+
 struct RunOptions {
   // Builds the backend's engine; empty means the reference engine.
   EngineFactory make_engine;
   // Called after each step (for progress lines); may be empty.
   std::function<void(const StepStats&, std::uint32_t steps)> on_step;
+  // Resume: start after this checkpoint's step, from its state (no placement, no
+  // warm-up). Its scene hash must be the scene's.
+  const RunCheckpoint* resume = nullptr;
+  // Receives the run so far and the engine's state after step `step` (0: after setup)
+  // when output.checkpoint_every divides the step, when output.checkpoint_seconds have
+  // passed since the last checkpoint, and when stop_requested() is true. Never after
+  // the last step. Empty: no checkpoints.
+  std::function<void(const RunResult& progress, std::uint32_t step, const EngineState& engine)> on_checkpoint;
+  // Polled after setup and after every step but the last; true ends the run there (after
+  // the checkpoint) by throwing Interrupted.
+  std::function<bool()> stop_requested;
+};
+
+// Thrown by run_scene when stop_requested() ended the run between two steps.
+struct Interrupted : std::runtime_error {
+  explicit Interrupted(std::uint32_t s) : std::runtime_error("interrupted"), step(s) {}
+  std::uint32_t step;  // steps run
 };
 
 // Particles at one step (output.paths or output.vtk; every output.frames_every steps).

@@ -165,6 +165,12 @@ struct Scene {
     std::uint32_t stats_every = 1;
     bool vtk = false;
     std::uint32_t frames_every = 10;
+    // Checkpoints of `axonguide run` (SPEC §4): after every checkpoint_every-th step (0:
+    // none), and after any step that ends checkpoint_seconds of wall-clock time since the
+    // last one (0: none; 600 s when not given).
+    std::uint32_t checkpoint_every = 0;
+    std::optional<double> checkpoint_seconds;
+    double checkpoint_interval() const { return checkpoint_seconds.value_or(600.0); }
   } output;
 
   // Derived quantities.

@@ -37,6 +37,24 @@ struct NeuronState {
   std::size_t size() const { return tip.size(); }
 };
 
+// An engine's state between two steps: what a checkpoint holds (SPEC §4). It is in neuron
+// id (and particle id) order and independent of the backend, so any backend resumes
+// from any backend's checkpoint. Scratch and derived data (the growing list, the soma and
+// particle grids, sorted copies) are rebuilt from it.
+struct EngineState {
+  NeuronState axons;                 // tip, length, status, steps and target, by id
+  std::vector<core::Vec3> heading;   // by id
+  std::vector<double> step_length;   // by id; empty without growth-rate modulation
+  std::uint64_t connected = 0, exited = 0;
+  // Particle field: the particles alive, in id order, and the next id to emit.
+  std::uint64_t next_particle_id = 0;
+  std::vector<core::Vec3> particle_pos, particle_vel;  // velocity: ballistic motion only
+  std::vector<std::uint64_t> particle_id;
+  std::vector<std::uint16_t> particle_cue;
+  // Grid field: every cue's current values, cue after cue (K n^3 values).
+  std::vector<double> grid;
+};
+
 // Wall-clock time per (step, phase): the only output allowed to vary between runs.
 class PhaseTimes {
  public:
@@ -49,6 +67,7 @@ class PhaseTimes {
     rows_.push_back({step, phase, seconds});
   }
   const std::vector<Row>& rows() const { return rows_; }
+  std::vector<Row>& rows() { return rows_; }
   double total(const std::string& phase) const {
     double t = 0;
     for (const auto& r : rows_)

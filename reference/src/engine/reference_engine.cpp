@@ -60,10 +60,54 @@ class ReferenceEngine final : public Engine {
     active_.resize(n);
     for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
     if (modulated_) step_length_.assign(n, params_.step_length);
-    if (field_) {
-      PhaseTimes warmup;  // before the step loop: not part of any step's timings
-      for (std::uint32_t s = 1; s <= scene.cues.warmup_steps; ++s) field_->advance(s, warmup);
-    }
+  }
+
+  void warm_up() override {
+    if (!field_) return;
+    PhaseTimes warmup;  // before the step loop: not part of any step's timings
+    for (std::uint32_t s = 1; s <= scene_.cues.warmup_steps; ++s) field_->advance(s, warmup);
+  }
+
+  void save(EngineState& out) override {
+    const std::vector<std::uint32_t>& ids = somas_.ids;
+    const std::size_t n = ids.size();
+    out.axons.resize(n);
+    out.heading.resize(n);
+    out.step_length.resize(modulated_ ? n : 0);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+      const std::uint32_t i = ids[k];
+      out.axons.tip[i] = state_.tip[k];
+      out.axons.length[i] = state_.length[k];
+      out.axons.status[i] = state_.status[k];
+      out.axons.steps[i] = state_.steps[k];
+      out.axons.target[i] = state_.target[k];
+      out.heading[i] = heading_[k];
+      if (modulated_) out.step_length[i] = step_length_[k];
+    });
+    out.connected = stats_.connected;
+    out.exited = stats_.exited;
+    if (field_) field_->save(out);
+  }
+
+  // The growing list is every growing slot in slot order: what compaction leaves.
+  void load(const EngineState& in) override {
+    const std::vector<std::uint32_t>& ids = somas_.ids;
+    tbb::parallel_for(std::size_t{0}, ids.size(), [&](std::size_t k) {
+      const std::uint32_t i = ids[k];
+      state_.tip[k] = in.axons.tip[i];
+      state_.length[k] = in.axons.length[i];
+      state_.status[k] = in.axons.status[i];
+      state_.steps[k] = in.axons.steps[i];
+      state_.target[k] = in.axons.target[i];
+      heading_[k] = in.heading[i];
+      if (modulated_) step_length_[k] = in.step_length[i];
+    });
+    active_.clear();
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (state_.status[k] == AxonStatus::kGrowing) active_.push_back(static_cast<std::uint32_t>(k));
+    stats_.connected = in.connected;
+    stats_.exited = in.exited;
+    if (field_) field_->load(in);
   }
 
   // The pipeline of SPEC §3.2: (1) cue fields advance, (2) sense and steer, (3) move,

@@ -1,11 +1,14 @@
 #include "axonguide/run.hpp"
 
 #include <algorithm>
+#include <chrono>
 
 #include <fmt/format.h>
 
+#include "axonguide/checkpoint.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/fault.hpp"
 #include "axonguide/placement.hpp"
 
 namespace axg {
@@ -63,23 +66,32 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)",
                                  scene.neurons.count, core::kNoNeuron));
   check_grid_field(scene, make_cues(scene));  // every backend refuses the same grids
+  const RunCheckpoint* resume = options.resume;
+  if (resume && resume->scene_hash != scene_hash(scene))
+    throw InputError("--resume: the checkpoint was written for another scene");
   RunResult r;
-  r.scene = scene;
   Placement placement;
-  {
+  if (resume) {
+    r = resume->progress;  // somas, stats, paths, frames and timings so far
+    placement.soma = r.soma;
+    placement.heading = resume->engine.heading;
+  } else {
     ScopedPhase p(r.times, 0, "placement");
     placement = place_neurons(scene);
+    fault_point("placement");
   }
-  r.placement_redraws = placement.redraws;
+  r.scene = scene;
+  r.placement_redraws = resume ? r.placement_redraws : placement.redraws;
   std::unique_ptr<Engine> engine;
   {
-    ScopedPhase p(r.times, 0, "setup");
+    ScopedPhase p(r.times, 0, resume ? "resume" : "setup");
     engine = options.make_engine ? options.make_engine(scene, placement)
                                  : make_reference_engine(scene, placement);
+    if (resume) engine->load(resume->engine);
+    else engine->warm_up();
   }
   r.soma = std::move(placement.soma);
-  placement.heading.clear();
-  placement.heading.shrink_to_fit();
+  placement = Placement{};
 
   r.cues = make_cues(scene);
   const bool frames = (scene.output.paths || scene.output.vtk) && scene.uses_cues() &&
@@ -101,14 +113,39 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     }
     r.frames.push_back(std::move(f));
   };
-  StepStats s0;
-  s0.growing = scene.neurons.count;
-  r.stats.push_back(s0);
-  if (scene.output.paths) {
-    r.paths.emplace_back();
-    engine->tips(r.paths.back());
+  // Checkpoints between steps: by step count, by wall clock, and before stopping.
+  using clock = std::chrono::steady_clock;
+  auto last_checkpoint = clock::now();
+  const double interval = scene.output.checkpoint_interval();
+  auto between_steps = [&](std::uint32_t step) {
+    const bool stop = options.stop_requested && options.stop_requested();
+    if (options.on_checkpoint) {
+      const bool due = (scene.output.checkpoint_every != 0 && step != 0 && step % scene.output.checkpoint_every == 0) ||
+                       (interval > 0 && std::chrono::duration<double>(clock::now() - last_checkpoint).count() >= interval);
+      if (due || stop) {
+        ScopedPhase p(r.times, step, "checkpoint");
+        EngineState state;
+        engine->save(state);
+        r.steps_run = step;
+        options.on_checkpoint(r, step, state);
+        last_checkpoint = clock::now();
+      }
+    }
+    if (stop) throw Interrupted(step);
+  };
+  const std::uint32_t first = resume ? resume->step + 1 : 1;
+  if (!resume) {
+    StepStats s0;
+    s0.growing = scene.neurons.count;
+    r.stats.push_back(s0);
+    if (scene.output.paths) {
+      r.paths.emplace_back();
+      engine->tips(r.paths.back());
+    }
+    fault_point("setup");
+    if (scene.steps > 0) between_steps(0);
   }
-  for (std::uint32_t step = 1; step <= scene.steps; ++step) {
+  for (std::uint32_t step = first; step <= scene.steps; ++step) {
     const StepStats s = engine->step(step, r.times);
     r.stats.push_back(s);
     r.steps_run = step;
@@ -119,7 +156,9 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     if (options.on_step) options.on_step(s, scene.steps);
     const bool last = s.growing == 0 || step == scene.steps;
     if (frames && (step % scene.output.frames_every == 0 || last)) record_frame(step);
-    if (s.growing == 0) break;  // nothing left to grow or guide
+    fault_point(fmt::format("step {}", step));
+    if (last) break;  // nothing left to grow or guide, or no steps left
+    between_steps(step);
   }
   r.engine_bytes = engine->bytes();
   r.field_note = engine->note();

@@ -56,6 +56,20 @@ class GridField final : public CueField {
 
   std::string note() const override { return note_; }
 
+  // Every cue's current values. The explicit scheme's other buffer is scratch: each
+  // sub-step writes every node of it.
+  void save(EngineState& out) const override {
+    const std::size_t nodes = geometry_.nodes();
+    out.grid.resize(cues_.size() * nodes);
+    for (std::size_t k = 0; k < cues_.size(); ++k)
+      std::copy_n(buffer_[cur_[k]].data() + k * nodes, nodes, out.grid.data() + k * nodes);
+  }
+
+  void load(const EngineState& in) override {
+    std::copy(in.grid.begin(), in.grid.end(), buffer_[0].begin());
+    cur_.assign(cues_.size(), 0);
+  }
+
  private:
   double* values(std::size_t k, int buffer) { return buffer_[buffer].data() + k * geometry_.nodes(); }
 

@@ -62,6 +62,23 @@ class ParticleField final : public CueField {
     cue = source_;
   }
 
+  void save(EngineState& out) const override {
+    out.next_particle_id = next_id_;
+    out.particle_pos = pos_;
+    out.particle_vel = vel_;
+    out.particle_id = id_;
+    out.particle_cue = source_;
+  }
+
+  // The hashed grid is rebuilt by the next step's advance, before anything reads it.
+  void load(const EngineState& in) override {
+    next_id_ = in.next_particle_id;
+    pos_ = in.particle_pos;
+    vel_ = in.particle_vel;
+    id_ = in.particle_id;
+    source_ = in.particle_cue;
+  }
+
   std::size_t bytes() const override {
     return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
            keep_.capacity() + keys_.capacity() * 4 + index_.capacity() * 4 + sorted_pos_.capacity() * 24 +

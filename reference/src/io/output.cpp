@@ -11,6 +11,7 @@
 #include <openssl/evp.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/fault.hpp"
 
 namespace axg {
 
@@ -56,6 +57,7 @@ void AtomicFile::write(std::string_view text) {
 }
 
 std::string AtomicFile::commit() {
+  fault_point("output " + final_.filename().string());
   const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
   const int err = errno;
   const bool closed = std::fclose(file_) == 0;
@@ -72,23 +74,21 @@ std::string AtomicFile::commit() {
   return to_hex(md, len);
 }
 
-namespace {
+Sha256::Sha256() : ctx_(EVP_MD_CTX_new()) {
+  if (!ctx_ || EVP_DigestInit_ex(static_cast<EVP_MD_CTX*>(ctx_), EVP_sha256(), nullptr) != 1)
+    throw RunError("SHA-256 unavailable");
+}
 
-struct Digest {
-  EVP_MD_CTX* ctx = EVP_MD_CTX_new();
-  Digest() {
-    if (!ctx || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) throw RunError("SHA-256 unavailable");
-  }
-  ~Digest() { EVP_MD_CTX_free(ctx); }
-  void update(const void* p, std::size_t n) { EVP_DigestUpdate(ctx, p, n); }
-  std::string hex() {
-    unsigned char md[EVP_MAX_MD_SIZE];
-    unsigned int len = 0;
-    EVP_DigestFinal_ex(ctx, md, &len);
-    return to_hex(md, len);
-  }
-};
-}  // namespace
+Sha256::~Sha256() { EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(ctx_)); }
+
+void Sha256::update(std::string_view bytes) { EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(ctx_), bytes.data(), bytes.size()); }
+
+std::string Sha256::hex() {
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned int len = 0;
+  EVP_DigestFinal_ex(static_cast<EVP_MD_CTX*>(ctx_), md, &len);
+  return to_hex(md, len);
+}
 
 std::string write_file_atomically(const std::filesystem::path& dir, const std::string& name, std::string_view text) {
   AtomicFile f(dir, name);
@@ -97,19 +97,19 @@ std::string write_file_atomically(const std::filesystem::path& dir, const std::s
 }
 
 std::string sha256_hex(std::string_view bytes) {
-  Digest d;
-  d.update(bytes.data(), bytes.size());
+  Sha256 d;
+  d.update(bytes);
   return d.hex();
 }
 
 std::string sha256_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw RunError(fmt::format("cannot read {} for hashing", path.string()));
-  Digest d;
+  Sha256 d;
   std::vector<char> buf(1 << 16);
   while (in) {
     in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    d.update(buf.data(), static_cast<std::size_t>(in.gcount()));
+    d.update(std::string_view(buf.data(), static_cast<std::size_t>(in.gcount())));
   }
   return d.hex();
 }

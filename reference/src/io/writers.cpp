@@ -8,7 +8,9 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/fault.hpp"
 #include "axonguide/output.hpp"
+#include "axonguide/run_folder.hpp"
 #include "axonguide/run.hpp"
 #include "axonguide/version.hpp"
 #include "axonguide/vtk.hpp"
@@ -151,15 +153,6 @@ void write_timings(const RunResult& r, AtomicFile& f) {
   w.flush();
 }
 
-std::string utc_now() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 }  // namespace
 
 std::string connections_csv(const RunResult& r) {
@@ -190,15 +183,8 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   emit("timings.csv", write_timings);
 
-  json manifest;
-  manifest["axonguide"] = {{"version", kVersion}, {"commit", kCommit}, {"build_type", kBuildType},
-                           {"compiler", kCompiler}, {"cxx_flags", kCxxFlags}};
-  manifest["scene"] = scene_to_json(r.scene);
-  manifest["seed"] = r.scene.seed;
-  manifest["units"] = r.scene.units.describe();
-  manifest["backend"] = backend_name;
-  manifest["threads"] = threads;
-  manifest["created"] = utc_now();
+  json manifest = manifest_header(r.scene, backend_name, threads, {});
+  manifest["status"] = "complete";
   const StepStats& last = r.stats.back();
   manifest["summary"] = {{"neurons", r.neurons.size()},
                          {"steps_run", r.steps_run},
@@ -227,10 +213,8 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   json files = json::object();
   for (const auto& [name, hash] : info.files) files[name] = {{"sha256", hash}};
   manifest["files"] = files;
-  AtomicFile m(dir, "manifest.json");
-  m.write(manifest.dump(2));
-  m.write("\n");
-  m.commit();
+  fault_point("manifest");
+  write_manifest(dir, manifest);
   return info;
 }
 

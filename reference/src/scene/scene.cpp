@@ -407,6 +407,8 @@ void read_scene(const json& root, Scene& s) {
     r.integer("stats_every", s.output.stats_every, 1, 1000000000);
     r.boolean("vtk", s.output.vtk);
     r.integer("frames_every", s.output.frames_every, 1, 1000000000);
+    r.integer("checkpoint_every", s.output.checkpoint_every, 0, 1000000000);
+    r.optional_number("checkpoint_seconds", s.output.checkpoint_seconds, non_negative());
     r.finish();
   }
   top.finish();
@@ -675,6 +677,9 @@ json scene_to_json(const Scene& s) {
   j["analysis"] = {{"bfs_sources", s.analysis.bfs_sources}, {"components", s.analysis.components}};
   j["output"] = {{"paths", s.output.paths}, {"stats_every", s.output.stats_every},
                  {"vtk", s.output.vtk}, {"frames_every", s.output.frames_every}};
+  // Written only when given, so the bytes of older scenes (and their hashes) stay.
+  if (s.output.checkpoint_every != 0) j["output"]["checkpoint_every"] = s.output.checkpoint_every;
+  if (s.output.checkpoint_seconds) j["output"]["checkpoint_seconds"] = *s.output.checkpoint_seconds;
   return j;
 }
 

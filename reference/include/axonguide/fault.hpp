@@ -1,0 +1,13 @@
+#pragma once
+// A test hook for crash consistency: when the environment variable AXG_FAULT_KILL_AT
+// names a point ("placement", "setup", "step N", "checkpoint N", "output FILE",
+// "manifest"), the process sends itself SIGKILL there, as `kill -9` would. The resume
+// tests use it to kill a run at exact points of every stage; unset, it costs one
+// comparison against an empty string.
+#include <string_view>
+
+namespace axg {
+
+void fault_point(std::string_view name);
+
+}  // namespace axg

@@ -1,0 +1,79 @@
+#pragma once
+// A run owns its folder (SPEC §4). manifest.json says what the folder is:
+//   "status": "running"      a run is writing it (or was killed while it did);
+//   "status": "interrupted"  a run stopped on SIGINT/SIGTERM after writing a checkpoint;
+//   "status": "complete"     every output is written, and "files" lists each one with its
+//                            SHA-256 (the manifest is written last).
+// A folder is a whole run exactly when its manifest is complete and every file it lists
+// has the listed hash. Readers (view, plot, assay, golden) refuse anything else, and read
+// only the files the manifest lists.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "axonguide/scene.hpp"
+
+namespace axg {
+
+inline constexpr const char* kManifestName = "manifest.json";
+inline constexpr const char* kLockName = ".axonguide.lock";
+
+// True for the names a run writes (relative to its folder): its CSV, GraphML and VTK
+// files, the manifest and the checkpoint.
+bool is_run_output(const std::string& relative_name);
+
+struct FolderCheck {
+  bool whole = false;
+  std::string status;                 // "complete", "running", "interrupted", or empty
+  std::vector<std::string> problems;  // why it is not whole
+  std::vector<std::string> notes;     // harmless findings (e.g. an old checkpoint)
+  nlohmann::json manifest;            // null when missing or unreadable
+};
+
+// Checks DIR against DIR/manifest.json: status, presence and SHA-256 of every listed file.
+FolderCheck verify_run_folder(const std::filesystem::path& dir);
+
+// The manifest of a whole run; throws InputError "COMMAND: DIR is not a whole run: ..."
+// (exit 2) otherwise.
+nlohmann::json require_whole_run(const std::filesystem::path& dir, const std::string& command);
+
+// An exclusive lock on DIR/.axonguide.lock (flock: released by the kernel when the
+// process dies, so kill -9 leaves no stale lock). Throws RunError when another process
+// holds it. The file is removed when the lock is released.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::filesystem::path& dir);
+  ~FolderLock();
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  std::filesystem::path path_;
+  int fd_ = -1;
+};
+
+// Makes DIR ready for a new run. An empty folder, or one holding only files a run does
+// not write, is taken as it is. A folder holding a run (any status) is refused unless
+// `force`; with force, exactly the files its manifest lists (and the manifest, the
+// checkpoint and this version's temporary files) are removed. Run outputs without a
+// manifest are refused even with force: nothing says whose they are. Returns the files
+// left that an earlier run's readers made (view.html, plots), for a warning.
+std::vector<std::string> claim_run_folder(const std::filesystem::path& dir, bool force);
+
+// Removes the temporary files (".NAME.tmp-PID") of runs that were killed in DIR.
+void remove_stale_temporaries(const std::filesystem::path& dir);
+
+// The manifest's fields that describe the run (everything but status, files and
+// timings): version, build, scene, seed, units, backend, threads, created, warnings.
+nlohmann::json manifest_header(const Scene& scene, const std::string& backend, int threads,
+                               const std::vector<std::string>& warnings);
+
+// Writes DIR/manifest.json atomically.
+void write_manifest(const std::filesystem::path& dir, const nlohmann::json& manifest);
+
+// Reads DIR/manifest.json; throws InputError when it is missing or not JSON.
+nlohmann::json read_manifest(const std::filesystem::path& dir);
+
+}  // namespace axg

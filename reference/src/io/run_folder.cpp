@@ -1,0 +1,299 @@
+// The run folder's protocol: ownership, the lock, the manifest's status and verification.
+#include "axonguide/run_folder.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "axonguide/checkpoint.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/json_input.hpp"
+#include "axonguide/output.hpp"
+#include "axonguide/version.hpp"
+
+namespace axg {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+const std::set<std::string>& fixed_outputs() {
+  static const std::set<std::string> names{"neurons.csv", "connections.csv", "stats.csv",   "bfs.csv",
+                                           "paths.csv",   "sources.csv",     "particles.csv", "graph.graphml",
+                                           "timings.csv", "growth.pvd",      kManifestName,   kCheckpointName};
+  return names;
+}
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// ".NAME.tmp-PID" for an output NAME (AtomicFile's temporary names).
+bool is_temporary(const std::string& file) {
+  if (file.size() < 2 || file[0] != '.') return false;
+  const auto at = file.rfind(".tmp-");
+  if (at == std::string::npos || at < 2) return false;
+  const std::string pid = file.substr(at + 5);
+  if (pid.empty() || !std::all_of(pid.begin(), pid.end(), [](char c) { return c >= '0' && c <= '9'; })) return false;
+  const std::string name = file.substr(1, at - 1);
+  return fixed_outputs().count(name) != 0 || ends_with(name, ".vtp");
+}
+
+std::string utc_now() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// A listed name must stay inside the folder.
+bool safe_relative(const std::string& name) {
+  if (name.empty() || name[0] == '/') return false;
+  for (const auto& part : fs::path(name))
+    if (part == ".." || part == ".") return false;
+  return true;
+}
+
+void remove_file(const fs::path& p) {
+  std::error_code ec;
+  fs::remove(p, ec);
+  if (ec) throw RunError(fmt::format("--force: cannot remove {}: {}", p.string(), ec.message()));
+}
+
+}  // namespace
+
+bool is_run_output(const std::string& name) {
+  return fixed_outputs().count(name) != 0 || (name.rfind("vtk/", 0) == 0 && ends_with(name, ".vtp"));
+}
+
+json read_manifest(const fs::path& dir) {
+  const fs::path p = dir / kManifestName;
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: no {} (not a run's folder)", dir.string(), kManifestName));
+  std::ostringstream s;
+  s << in.rdbuf();
+  try {
+    json j = parse_json_strict(s.str(), p.string());
+    if (!j.is_object()) throw InputError("not a JSON object");
+    return j;
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {} is not a manifest: {}", dir.string(), kManifestName, e.what()));
+  }
+}
+
+FolderCheck verify_run_folder(const fs::path& dir) {
+  FolderCheck c;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    c.problems.push_back(fmt::format("{} is not a directory", dir.string()));
+    return c;
+  }
+  try {
+    c.manifest = read_manifest(dir);
+  } catch (const InputError& e) {
+    c.problems.push_back(e.what());
+    return c;
+  }
+  const json& m = c.manifest;
+  if (m.contains("status") && m["status"].is_string()) c.status = m["status"].get<std::string>();
+  else if (!m.contains("status")) c.status = "complete";  // manifests from before the status field
+  if (c.status == "running")
+    c.problems.push_back("status \"running\": a run is writing this folder, or was killed while it did "
+                         "(continue it with `axonguide run --resume DIR`)");
+  else if (c.status == "interrupted")
+    c.problems.push_back("status \"interrupted\": the run stopped before its outputs were written "
+                         "(continue it with `axonguide run --resume DIR`)");
+  else if (c.status != "complete")
+    c.problems.push_back(fmt::format("status {}: not one of running, interrupted, complete", m.value("status", json()).dump()));
+  if (!m.contains("files") || !m["files"].is_object()) {
+    c.problems.push_back("the manifest lists no files");
+  } else if (c.status == "complete") {
+    if (m["files"].empty()) c.problems.push_back("the manifest lists no files");
+    for (auto it = m["files"].begin(); it != m["files"].end(); ++it) {
+      const std::string name = it.key();
+      if (!safe_relative(name)) {
+        c.problems.push_back(fmt::format("{}: a name outside the folder", printable(name)));
+        continue;
+      }
+      const fs::path p = dir / name;
+      if (!fs::is_regular_file(p, ec)) {
+        c.problems.push_back(fmt::format("{}: missing", name));
+        continue;
+      }
+      const json& want = it.value();
+      if (!want.is_object() || !want.contains("sha256") || !want["sha256"].is_string()) {
+        c.problems.push_back(fmt::format("{}: no sha256 in the manifest", name));
+        continue;
+      }
+      std::string got;
+      try {
+        got = sha256_file(p);
+      } catch (const RunError& e) {
+        c.problems.push_back(fmt::format("{}: {}", name, e.what()));
+        continue;
+      }
+      if (got != want["sha256"].get<std::string>())
+        c.problems.push_back(fmt::format("{}: SHA-256 {} but the manifest lists {}", name, got.substr(0, 16) + "…",
+                                         want["sha256"].get<std::string>().substr(0, 16) + "…"));
+    }
+  }
+  if (fs::exists(dir / kCheckpointName, ec) && c.status == "complete")
+    c.notes.push_back(fmt::format("{} is left from before the outputs were complete (not needed)", kCheckpointName));
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (is_temporary(e.path().filename().string()))
+      c.notes.push_back(fmt::format("{}: a temporary file of a killed run", e.path().filename().string()));
+  c.whole = c.problems.empty();
+  return c;
+}
+
+json require_whole_run(const fs::path& dir, const std::string& command) {
+  const FolderCheck c = verify_run_folder(dir);
+  if (c.whole) return c.manifest;
+  std::string why;
+  for (const auto& p : c.problems) why += (why.empty() ? "" : "; ") + p;
+  throw InputError(fmt::format("{}: {} is not a whole run: {} (see `axonguide verify {}`)", command, dir.string(), why,
+                               dir.string()));
+}
+
+FolderLock::FolderLock(const fs::path& dir) : path_(dir / kLockName) {
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw RunError(fmt::format("cannot create the lock {}: {}", path_.string(), std::strerror(errno)));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      char pid[32] = {0};
+      const ssize_t got = ::pread(fd_, pid, sizeof pid - 1, 0);
+      ::close(fd_);
+      fd_ = -1;
+      if (err == EWOULDBLOCK)
+        throw RunError(fmt::format("{}: another axonguide run (pid {}) is writing this folder; wait for it, or choose "
+                                   "another --out",
+                                   dir.string(), got > 0 ? std::string(pid, static_cast<std::size_t>(got)) : "?"));
+      throw RunError(fmt::format("cannot lock {}: {}", path_.string(), std::strerror(err)));
+    }
+    // The holder before us may have removed the file after we opened it: then our lock is
+    // on an unlinked inode, and we try again.
+    struct stat held {}, named {};
+    if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
+        held.st_dev == named.st_dev) {
+      const std::string pid = std::to_string(::getpid());
+      if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
+        // The pid is only for the message of a second run.
+      }
+      return;
+    }
+    ::close(fd_);
+    fd_ = -1;
+  }
+  throw RunError(fmt::format("cannot lock {}: it keeps being replaced", path_.string()));
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ < 0) return;
+  ::unlink(path_.c_str());
+  ::close(fd_);
+}
+
+void remove_stale_temporaries(const fs::path& dir) {
+  std::error_code ec;
+  for (const fs::path& d : {dir, dir / "vtk"}) {
+    if (!fs::is_directory(d, ec)) continue;
+    std::vector<fs::path> stale;
+    for (const auto& e : fs::directory_iterator(d, ec))
+      if (is_temporary(e.path().filename().string())) stale.push_back(e.path());
+    for (const auto& p : stale) fs::remove(p, ec);
+  }
+}
+
+std::vector<std::string> claim_run_folder(const fs::path& dir, bool force) {
+  std::error_code ec;
+  std::vector<std::string> outputs, others;
+  for (const fs::path& d : {dir, dir / "vtk"}) {
+    if (!fs::is_directory(d, ec)) continue;
+    for (const auto& e : fs::directory_iterator(d, ec)) {
+      const std::string name = fs::relative(e.path(), dir, ec).generic_string();
+      if (name == kLockName || name == "vtk" || is_temporary(e.path().filename().string())) continue;
+      (is_run_output(name) ? outputs : others).push_back(name);
+    }
+  }
+  std::sort(outputs.begin(), outputs.end());
+  std::sort(others.begin(), others.end());
+  if (outputs.empty()) return others;
+  if (!fs::exists(dir / kManifestName, ec)) {
+    std::string list;
+    for (std::size_t k = 0; k < outputs.size() && k < 5; ++k) list += (k ? ", " : "") + outputs[k];
+    throw InputError(fmt::format("--out {}: holds run outputs ({}{}) but no manifest.json, so nothing says which run "
+                                 "they belong to; remove them or choose another folder",
+                                 dir.string(), list, outputs.size() > 5 ? ", ..." : ""));
+  }
+  const json m = read_manifest(dir);
+  const std::string status = m.value("status", std::string("complete"));
+  if (!force) {
+    if (status == "complete")
+      throw InputError(fmt::format("--out {}: holds another run (created {}); give --force to replace it (it removes "
+                                   "exactly the files its manifest lists), or choose another folder",
+                                   dir.string(), m.value("created", std::string("?"))));
+    throw InputError(fmt::format("--out {}: holds an unfinished run (status \"{}\"); continue it with `axonguide run "
+                                 "--resume {}`, or give --force to replace it",
+                                 dir.string(), status, dir.string()));
+  }
+  // The files the manifest lists (a running or interrupted run lists what it plans).
+  std::set<std::string> listed;
+  if (m.contains("files") && m["files"].is_object())
+    for (auto it = m["files"].begin(); it != m["files"].end(); ++it) listed.insert(it.key());
+  if (m.contains("planned") && m["planned"].is_array())
+    for (const auto& name : m["planned"])
+      if (name.is_string()) listed.insert(name.get<std::string>());
+  const bool planned_vtk = listed.count("vtk/*.vtp") != 0;
+  for (const std::string& name : outputs) {
+    const bool ours = listed.count(name) != 0 || name == kManifestName || name == kCheckpointName ||
+                      (planned_vtk && name.rfind("vtk/", 0) == 0);
+    if (ours && safe_relative(name)) remove_file(dir / name);
+    else others.push_back(name);
+  }
+  if (fs::is_directory(dir / "vtk", ec) && fs::is_empty(dir / "vtk", ec)) fs::remove(dir / "vtk", ec);
+  remove_stale_temporaries(dir);
+  // The manifest goes last: until then the folder still says what it holds.
+  remove_file(dir / kManifestName);
+  std::sort(others.begin(), others.end());
+  return others;
+}
+
+json manifest_header(const Scene& scene, const std::string& backend, int threads,
+                     const std::vector<std::string>& warnings) {
+  json m;
+  m["axonguide"] = {{"version", kVersion}, {"commit", kCommit}, {"build_type", kBuildType},
+                    {"compiler", kCompiler}, {"cxx_flags", kCxxFlags}};
+  m["scene"] = scene_to_json(scene);
+  m["seed"] = scene.seed;
+  m["units"] = scene.units.describe();
+  m["backend"] = backend;
+  m["threads"] = threads;
+  m["created"] = utc_now();
+  m["warnings"] = warnings;
+  return m;
+}
+
+void write_manifest(const fs::path& dir, const json& manifest) {
+  AtomicFile m(dir, kManifestName);
+  m.write(manifest.dump(2));
+  m.write("\n");
+  m.commit();
+}
+
+}  // namespace axg

@@ -5,6 +5,10 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
+
+#include "axonguide/error.hpp"
+#include "axonguide/validate/points_csv.hpp"
 
 #include "axonguide/core/random.hpp"
 #include "axonguide/core/sampler.hpp"
@@ -51,6 +55,35 @@ TEST(points, UniformPassesNaiveFailsGarbageIsRefused) {
   EXPECT_NE(err.find("line 2 has 2 columns"), std::string::npos) << err;
   EXPECT_EQ(run(fmt::format("validate samplers --points {}/ball.csv --report {}", tmp.path().string(), report), &err), 2);
   EXPECT_NE(err.find("beyond --radius 1"), std::string::npos) << err;
+}
+
+// The reader alone (what the fuzzer drives): headers, comments, blank lines, a trailing comma
+// (no empty cell), CRLF, strtod's leniency, and the refusals with their line numbers.
+TEST(points, ReaderKeepsItsRules) {
+  auto read = [](const std::string& text) {
+    std::istringstream in(text);
+    return validate::read_points_csv(in, "--points f.csv");
+  };
+  auto refusal = [&](const std::string& text) {
+    try {
+      read(text);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const validate::PointRows p = read("x,y,z\n# comment\nname,,\n\n1,2,3\r\n4, 5,6,\n 7e0,0x8,9abc\n");
+  EXPECT_EQ(p.n, 3u);
+  EXPECT_EQ(p.d, 3);
+  EXPECT_EQ(p.x, (std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_EQ(read("").d, -1);
+  EXPECT_EQ(read("a\nb\n").n, 0u);
+  EXPECT_EQ(refusal("1,2\n3,x\n"), "--points f.csv: line 2 is not numeric");
+  EXPECT_EQ(refusal("1,2\n3,,4\n"), "--points f.csv: line 2 is not numeric");
+  EXPECT_EQ(refusal("1,2\n\n3\n"), "--points f.csv: line 3 has 1 columns, the first row had 2");
+  EXPECT_EQ(refusal("1,2\n3,nan\n"), "--points f.csv: line 2 has a non-finite value");
+  EXPECT_EQ(refusal("1,1e999\n"), "--points f.csv: line 1 has a non-finite value");
+  EXPECT_EQ(read(std::string("1,2\n3\0x,4\n", 10)).x, (std::vector<double>{1, 2, 3, 4}));  // strtod stops at the NUL
 }
 
 }  // namespace

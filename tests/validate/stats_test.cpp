@@ -360,6 +360,88 @@ TEST(StatsGine, FiniteNNullMomentsMatchTheLimitLaw) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Gine for large n: the sorted circle statistic and the block statistic
+
+TEST(StatsGineLarge, CircleStatisticEqualsThePairSum) {
+  // Unit vectors in every quadrant, on the axes (y = 0 with x < 0 folds to x > 0), repeated
+  // points, antipodes and a zero vector: the O(n log n) sum is the O(n^2) one.
+  Rng rng(900);
+  for (std::size_t n : {2u, 3u, 50u, 3000u}) {
+    auto x = uniform_sphere(n, 2, rng);
+    if (n >= 50) {
+      x[0] = -1, x[1] = 0;    // on the negative x axis
+      x[2] = 1, x[3] = 0;     // its antipode
+      x[4] = 0, x[5] = -1;
+      x[6] = x[8], x[7] = x[9];  // a repeated point
+      x[10] = -x[12], x[11] = -x[13];
+      x[14] = 0, x[15] = 0;   // a zero vector: sin psi = 1 with every point in the pair sum
+    }
+    const double pairs = gine_statistic(x.data(), n, 2), sorted = gine_statistic_circle(x.data(), n);
+    EXPECT_NEAR(sorted, pairs, 1e-11 * std::max(1.0, std::fabs(pairs))) << n;
+  }
+  // Above kGineExactMax gine() takes the sorted route for d = 2: the statistic of all pairs still.
+  const std::size_t n = kGineExactMax + 5000;
+  const auto x = uniform_sphere(n, 2, rng);
+  const TestResult g = gine(x.data(), n, 2);
+  EXPECT_NEAR(g.statistic, gine_statistic(x.data(), n, 2), 1e-10);
+  EXPECT_NE(g.note.find("sorting"), std::string::npos) << g.note;
+  EXPECT_GT(g.p_value, 1e-4);
+}
+
+TEST(StatsGineLarge, BlockStatistic) {
+  Rng rng(901);
+  // One block is G_n of the same points in another order.
+  {
+    const std::size_t n = 400;
+    const auto x = uniform_sphere(n, 3, rng);
+    EXPECT_NEAR(gine_block_statistic(x.data(), n, 3, 1), gine_statistic(x.data(), n, 3), 1e-12);
+  }
+  EXPECT_EQ(gine_block_count(kGineExactMax), 1u);
+  EXPECT_EQ(gine_block_count(kGineExactMax + 1), 2u);
+  EXPECT_EQ(gine_block_count(200000), 98u);      // B = 2048
+  EXPECT_EQ(gine_block_count(10000000), 4883u);  // B = 2048
+  // Under H0 the sum of m blocks has mean m/2 and m times the variance of one block of its size
+  // ((b-1)/b times the limit's): Monte Carlo, 300 replicates of 8 blocks of 100 points.
+  {
+    const std::size_t n = 800, m = 8;
+    const int R = 300;
+    std::vector<double> T(R), p(R);
+    const GineLimit& g = gine_limit(3);
+    WeightedChiSquare sum = g.law;
+    for (double& h : sum.dof) h *= m;
+    sum.shift *= m;
+    for (int r = 0; r < R; ++r) {
+      const auto x = uniform_sphere(n, 3, rng);
+      T[r] = gine_block_statistic(x.data(), n, 3, m);
+      p[r] = weighted_chisq_sf(sum, T[r]);
+    }
+    const double var = m * g.variance * 99.0 / 100.0;
+    EXPECT_NEAR(mean_of(T), m / 2.0, 4 * std::sqrt(var / R));
+    EXPECT_NEAR(var_of(T), var, 0.25 * var);
+    EXPECT_GT(ks_uniform(p).p_value, 1e-3);
+  }
+  // Above kGineExactMax for d = 3: 3 blocks of 10^4. A uniform set passes, also when its rows
+  // are sorted (the blocks are pseudo-random subsets, not runs of rows); the naive (theta, phi)
+  // sampler fails.
+  const std::size_t n = 30000;
+  auto x = uniform_sphere(n, 3, rng);
+  const TestResult u = gine(x.data(), n, 3);
+  EXPECT_NE(u.note.find("sum of G over 3 blocks"), std::string::npos) << u.note;
+  EXPECT_GT(u.p_value, 1e-4);
+  std::vector<std::size_t> idx(n);
+  std::iota(idx.begin(), idx.end(), 0);
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return x[3 * a + 2] < x[3 * b + 2]; });
+  std::vector<double> sorted(3 * n);
+  for (std::size_t i = 0; i < n; ++i) std::copy_n(&x[3 * idx[i]], 3, &sorted[3 * i]);
+  EXPECT_GT(gine(sorted.data(), n, 3).p_value, 1e-4);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double th = kPi * gsl_rng_uniform(rng.get()), ph = 2 * kPi * gsl_rng_uniform(rng.get());
+    x[3 * i] = std::sin(th) * std::cos(ph), x[3 * i + 1] = std::sin(th) * std::sin(ph), x[3 * i + 2] = std::cos(th);
+  }
+  EXPECT_LT(gine(x.data(), n, 3).p_value, 1e-6);
+}
+
+// ---------------------------------------------------------------------------------------
 // The three sphere tests under H0 and against alternatives
 
 TEST(StatsSphereTests, PValuesUniformUnderH0) {

@@ -17,6 +17,7 @@
 #include "axonguide/placement.hpp"
 #include "axonguide/sampler_nd.hpp"
 #include "axonguide/threads.hpp"
+#include "axonguide/validate/points_csv.hpp"
 #include "axonguide/validate/stats.hpp"
 #include "axonguide/validate/validate.hpp"
 
@@ -275,36 +276,10 @@ void validate_samplers(const Options& o, Report& r) {
 void validate_points_file(const Options& o, Report& r) {
   std::ifstream in(o.points_file);
   if (!in) throw InputError(fmt::format("--points {}: cannot open", o.points_file));
-  std::vector<double> x;
-  int d = -1;
-  std::size_t line_no = 0, n = 0;
-  std::string line;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<double> row;
-    std::stringstream ss(line);
-    std::string cell;
-    bool numeric = true;
-    while (std::getline(ss, cell, ',')) {
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (end == cell.c_str()) numeric = false;
-      row.push_back(v);
-    }
-    if (!numeric) {
-      if (n == 0 && x.empty()) continue;  // a header line
-      throw InputError(fmt::format("--points {}: line {} is not numeric", o.points_file, line_no));
-    }
-    if (d < 0) d = static_cast<int>(row.size());
-    if (static_cast<int>(row.size()) != d)
-      throw InputError(fmt::format("--points {}: line {} has {} columns, the first row had {}", o.points_file, line_no,
-                                   row.size(), d));
-    for (double v : row)
-      if (!std::isfinite(v)) throw InputError(fmt::format("--points {}: line {} has a non-finite value", o.points_file, line_no));
-    x.insert(x.end(), row.begin(), row.end());
-    ++n;
-  }
+  const PointRows points = read_points_csv(in, fmt::format("--points {}", o.points_file));
+  const std::vector<double>& x = points.x;
+  const std::size_t n = points.n;
+  const int d = points.d;
   if (n < 10 || d < 2) throw InputError(fmt::format("--points {}: need at least 10 points of dimension >= 2 (found {} of {})",
                                                     o.points_file, n, d));
   bool unit = true;

@@ -5,7 +5,8 @@
 // function of a weighted sum of chi-squares).
 //
 // Points are n rows of d doubles, row-major (x[i*d + k]); the sphere tests assume unit
-// vectors. Everything is deterministic: no random numbers are drawn anywhere here.
+// vectors. Everything is deterministic: the only random numbers, the order of Gine's blocks for
+// large n, are Philox words of the point index.
 //
 // Gine's G_n (1975) as a degenerate V-statistic (derived in stats.cpp, checked by the tests):
 //   G_n = n/2 - (d-1)/(2n) (Gamma((d-1)/2)/Gamma(d/2))^2 sum_{i<j} sin psi_ij
@@ -14,6 +15,7 @@
 // lambda_0 = E K = -1/c_d. Under H0, G_n -> sum_{k>=1} (c_d/2) lambda_k chi2_{dim_k} (only even
 // k have lambda_k != 0, and those are > 0); mean exactly 1/2, variance (c_d^2/2)(1-1/d) - 1/2.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -33,11 +35,33 @@ TestResult rayleigh(const double* x, std::size_t n, int d);
 // (d-1)(d+2)/2 df. tr(T^2) through T (Eigen, O(n d^2)) when d <= n, otherwise through the Gram
 // matrix, (1/n^2) sum_{a,b} (x_a.x_b)^2 (O(n^2 d)).
 TestResult bingham(const double* x, std::size_t n, int d);
-// Gine's G_n; p-value from its asymptotic law (gine_limit) by Imhof's inversion.
+// Gine's test; p-value from the asymptotic law (gine_limit) by Imhof's inversion. The cost stays
+// O(n log n) in n: up to kGineExactMax points, G_n over all pairs (gine_statistic); above, for
+// d = 2, the same G_n by sorting (gine_statistic_circle); for d >= 3, the sum of G over
+// gine_block_count(n) disjoint blocks (gine_block_statistic), referred to the convolution of
+// that many copies of the limit law. The note says which.
 TestResult gine(const double* x, std::size_t n, int d);
+inline constexpr std::size_t kGineExactMax = 20000;
 // G_n alone (no p-value): 1/2 - (c_d/n) sum_{i<j} (sin psi_ij - 1/c_d), the centred form of the
 // definition. O(n^2 d): direct loops for d <= 8, blocked Eigen Gram products above.
 double gine_statistic(const double* x, std::size_t n, int d);
+// G_n of d = 2 points in O(n log n), exact: the points are normalised (and a zero vector
+// counted as gine_statistic counts it), folded onto the upper half circle, sorted by angle,
+// and sin psi_ij = u_j x u_i summed through prefix sums (long double). Equals gine_statistic
+// to ~1e-12 for unit vectors (tested).
+double gine_statistic_circle(const double* x, std::size_t n);
+// The blocks for n points: 1 up to kGineExactMax, else ceil(n / B) with
+// B = max(kGineBlockMin, kGinePairBudget / n) points a block, so that the pair count stays at
+// about kGinePairBudget / 2 up to n = 2*10^5 and grows as kGineBlockMin n / 2 above.
+inline constexpr std::size_t kGineBlockMin = 2048;
+inline constexpr std::size_t kGinePairBudget = 400000000;
+std::size_t gine_block_count(std::size_t n);
+// sum_b G(block b): the points in the order of a Philox word of their index (seed
+// kGineOrderSeed, stream kValidation, step kGineOrderStep), cut into `blocks` consecutive
+// runs of floor or ceil n/blocks points. Blocks run in parallel; the sum is in block order.
+inline constexpr std::uint64_t kGineOrderSeed = 2014;
+inline constexpr std::uint32_t kGineOrderStep = 0x6196u;
+double gine_block_statistic(const double* x, std::size_t n, int d, std::size_t blocks);
 // One-sample KS against U(0,1): D_n = sup |F_n - F|. p-value exact (Marsaglia-Tsang-Wang 2003)
 // for n <= 1000, otherwise kolmogorov_q((sqrt(n) + 0.12 + 0.11/sqrt(n)) D_n) (Stephens 1970).
 TestResult ks_uniform(std::vector<double> u);

@@ -11,6 +11,9 @@ packages=(
   python3 python3-matplotlib python3-pil
   # the viewer's tests: VTK's reader for the ParaView files, headless Chromium for the page
   python3-vtk9 chromium
+  # the fuzzers (fuzz/): clang, and libFuzzer with the sanitizers' runtimes (only a
+  # recommendation of clang, which --no-install-recommends leaves out)
+  clang libclang-rt-dev
 )
 [ $# -eq 0 ] || { echo "install-deps.sh takes no arguments" >&2; exit 2; }
 

@@ -7,17 +7,28 @@
 #   bundle/run-tests.sh [--allow-skip] [GTEST_ARGS]   every test binary, golden check on both
 #                                      backends, validate gpu; a skip exits 3 (scripts/bundle-run-tests.sh)
 #   bundle/axonguide ARGS              the command, with the bundle's paths set
-#   scripts/bundle.sh [BUILD_DIR] [BUNDLE_DIR]      (defaults: build, bundle)
+#   scripts/bundle.sh [BUILD_DIR] [BUNDLE_DIR] [TEST...]   (defaults: build, bundle, every test)
+# Naming tests (e.g. pipeline_gpu_test device_evidence_test) bundles only those: the full set
+# is over 100 MB, more than some GPU machines take (docs/gpu-validation.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 out=${2:-bundle}
+shift $(( $# < 2 ? $# : 2 ))
+only=("$@")
 [ -x "$build/bin/axonguide" ] || { echo "bundle.sh: $build/bin/axonguide not built" >&2; exit 2; }
 rm -rf "$out"
 mkdir -p "$out/bin" "$out/tests" "$out/lib" "$out/node_modules/three/build" \
          "$out/node_modules/three/examples/jsm/controls" "$out/validate" "$out/tests/app"
 cp "$build/bin/axonguide" "$out/bin/"
-for t in "$build"/tests/*_test; do [ -x "$t" ] && cp "$t" "$out/tests/"; done
+if [ ${#only[@]} -eq 0 ]; then
+  for t in "$build"/tests/*_test; do [ -x "$t" ] && cp "$t" "$out/tests/"; done
+else
+  for t in "${only[@]}"; do
+    [ -x "$build/tests/$t" ] || { echo "bundle.sh: $build/tests/$t not built" >&2; exit 2; }
+    cp "$build/tests/$t" "$out/tests/"
+  done
+fi
 # Libraries from ldd, except the C runtime and the dynamic loader (the target has its own).
 for f in "$out"/bin/* "$out"/tests/*_test; do
   ldd "$f" | awk '/=> \// {print $3}'

@@ -185,7 +185,9 @@ struct FakeBundle {
   FakeBundle(bool with_failure) {
     fs::create_directories(dir / "tests");
     fs::create_directories(dir / "bin");
-    fs::copy_file(fs::path(test::source_dir()) / "scripts" / "bundle-run-tests.sh", dir / "run-tests.sh");
+    // The source tree's script, or inside a bundle (AXG_SOURCE_DIR is the bundle) its own.
+    const fs::path script = fs::path(test::source_dir()) / "scripts" / "bundle-run-tests.sh";
+    fs::copy_file(fs::exists(script) ? script : fs::path(test::source_dir()) / "run-tests.sh", dir / "run-tests.sh");
     write("env.sh", "here=$(cd \"$(dirname \"${BASH_SOURCE[0]}\")\" && pwd)\n");
     const std::string self = self_exe();
     // Each records its arguments, then runs one fixture with real GoogleTest output.

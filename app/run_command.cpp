@@ -293,20 +293,40 @@ int cmd_run(const RunArgs& args) {
     }
     if (!job.checkpoint && !args.quiet)
       std::fprintf(stderr, "axonguide: note: %s has no checkpoint yet; the run starts again from step 0\n", dir.c_str());
-    remove_stale_temporaries(dir);
-  } else {
-    for (const auto& name : claim_run_folder(dir, args.force))
-      if (is_run_output(name) || name == "view.html" || name.rfind("assay", 0) == 0)
-        std::fprintf(stderr, "axonguide: warning: %s/%s is not this run's (the manifest will not list it)\n", dir.c_str(),
-                     name.c_str());
   }
+  FolderClaim claim;
+  if (!resuming) claim = claim_run_folder(dir, args.force);
+  for (const auto& name : claim.foreign)
+    if (is_run_output(name) || name == "view.html" || name.rfind("assay", 0) == 0 || name.rfind("plot", 0) == 0)
+      std::fprintf(stderr, "axonguide: warning: %s/%s is not this run's (its manifest will not list it)\n", dir.c_str(),
+                   name.c_str());
   for (const auto& w : job.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
   const Scene& scene = job.scene;
   json running = manifest_header(scene, args.backend, threads, job.warnings);
   running["status"] = "running";
   running["planned"] = planned_files(scene);
+  // An old checkpoint goes before anything else: it must never be taken for this run's.
+  std::vector<std::string> replacing;
+  for (const auto& name : claim.replacing)
+    if (name == kCheckpointName) fs::remove(dir / name);
+    else replacing.push_back(name);
+  running["replacing"] = replacing;
   running["files"] = json::object();
-  if (!resuming) write_manifest(dir, running);
+  if (resuming) {
+    // What the killed run was replacing, if it was killed before it had removed it all.
+    const json m = read_manifest(dir);
+    running = m;
+    std::vector<std::string> left;
+    if (m.contains("replacing") && m["replacing"].is_array())
+      for (const auto& name : m["replacing"])
+        if (name.is_string() && name.get<std::string>() != kCheckpointName) left.push_back(name.get<std::string>());
+    remove_run_files(dir, left);
+  } else {
+    // The running manifest first: from here on a kill leaves a folder whose manifest
+    // names every file in it.
+    write_manifest(dir, running);
+    remove_run_files(dir, replacing);
+  }
 
   StopSignals signals;
   Progress progress;

@@ -17,6 +17,7 @@
 #include "axonguide/fit.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/output.hpp"
+#include "axonguide/run_folder.hpp"
 #include "axonguide/sweep.hpp"
 #include "axonguide/threads.hpp"
 #include "axonguide/validate/report.hpp"
@@ -55,21 +56,9 @@ double number(const std::string& s, const std::string& where) {
 int cmd_assay(const std::string& dir_name) {
   const fs::path dir(dir_name);
   if (!fs::is_directory(dir)) throw InputError(fmt::format("assay: {} is not a directory", dir_name));
-  const std::string manifest_text = read_file(dir / "manifest.json", "assay");
-  json manifest;
-  try {
-    manifest = json::parse(manifest_text);
-  } catch (const json::exception& e) {
-    throw InputError(fmt::format("assay: {}/manifest.json is not valid JSON ({})", dir_name, e.what()));
-  }
+  const json manifest = require_whole_run(dir, "assay");
   const std::string neurons_text = read_file(dir / "neurons.csv", "assay");
-  std::string expected;
-  try {
-    expected = manifest.at("files").at("neurons.csv").at("sha256").get<std::string>();
-  } catch (const json::exception&) {
-    throw InputError(fmt::format("assay: {}/manifest.json does not list neurons.csv", dir_name));
-  }
-  if (sha256_hex(neurons_text) != expected)
+  if (!manifest["files"].contains("neurons.csv") || sha256_hex(neurons_text) != manifest["files"]["neurons.csv"].value("sha256", ""))
     throw InputError(fmt::format(
         "assay: {}/neurons.csv does not match its manifest (SHA-256 differs): the folder is not one complete run",
         dir_name));

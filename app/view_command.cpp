@@ -1,6 +1,8 @@
 // `axonguide view DIR` writes DIR/view.html: a self-contained page (three.js from the npm
 // package, inlined as data: modules through an import map; the run's data embedded as
 // JSON with base64 typed arrays). `axonguide plot DIR` writes PNG plots with matplotlib.
+#include <sys/wait.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -11,7 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/error.hpp"
+#include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
+#include "axonguide/run_folder.hpp"
 #include "axonguide/validate/report.hpp"
 #include "commands.hpp"
 
@@ -122,6 +126,10 @@ int cmd_view(const std::string& dir_name) {
   const fs::path dir(dir_name);
   if (!fs::is_directory(dir))
     throw InputError(fmt::format("view: {} is not a directory (give the --out directory of a run)", dir_name));
+  // Only a whole run, and only the files its manifest lists: never a stale file beside it.
+  const json manifest = require_whole_run(dir, "view");
+  auto listed = [&](const char* name) { return manifest["files"].contains(name); };
+  auto load_listed = [&](const char* name, Csv& out) { return listed(name) && load_csv(dir / name, out); };
   const fs::path source = validate::source_dir();
   const fs::path viewer = asset_dir("AXG_VIEWER_DIR", source / "viewer");
   const fs::path three = asset_dir("AXG_THREE_DIR", source / "node_modules" / "three");
@@ -133,7 +141,7 @@ int cmd_view(const std::string& dir_name) {
   json meta;
   std::vector<std::string> missing, notes;
   Csv neurons, bfs, paths, sources, particles;
-  if (!load_csv(dir / "neurons.csv", neurons)) missing.push_back("neurons.csv (no neurons to show)");
+  if (!load_listed("neurons.csv", neurons)) missing.push_back("neurons.csv (no neurons to show)");
   const std::size_t n = neurons.rows.size();
   std::vector<float> soma(3 * n), tip(3 * n), length(n);
   std::vector<std::uint8_t> status(n);
@@ -142,16 +150,32 @@ int cmd_view(const std::string& dir_name) {
   const char* names[] = {"growing", "connected", "exited", "max_steps"};
   double extent = 1, soma_radius = 0.25;
   std::uint32_t steps_run = 0;
+  // A run writes finite positions, known statuses and targets that are neuron ids (or
+  // -1); anything else is not a run's data, and is refused rather than drawn.
+  auto refuse = [&](std::size_t i, const std::string& why) {
+    throw InputError(fmt::format("view: {}: line {}: {}: not a run's data", (dir / "neurons.csv").string(), i + 2, why));
+  };
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = neurons.rows[i];
-    if (r.size() < 12) throw InputError(fmt::format("view: {}: line {} is incomplete", (dir / "neurons.csv").string(), i + 2));
-    for (int k = 0; k < 3; ++k) soma[3 * i + k] = static_cast<float>(num(r[1 + k])), tip[3 * i + k] = static_cast<float>(num(r[6 + k]));
+    if (r.size() < 12) refuse(i, "incomplete");
+    if (num(r[0]) != static_cast<double>(i)) refuse(i, fmt::format("id {} where {} belongs", printable(r[0]), i));
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(num(r[1 + k])) || !std::isfinite(num(r[6 + k]))) refuse(i, "a soma or tip coordinate is not finite");
+      soma[3 * i + k] = static_cast<float>(num(r[1 + k])), tip[3 * i + k] = static_cast<float>(num(r[6 + k]));
+    }
     soma_radius = num(r[4]);
+    if (!(soma_radius > 0) || !std::isfinite(soma_radius)) refuse(i, "the soma radius is not a positive number");
+    int known = -1;
     for (int s = 0; s < 4; ++s)
-      if (r[5] == names[s]) status[i] = static_cast<std::uint8_t>(s);
+      if (r[5] == names[s]) known = s;
+    if (known < 0) refuse(i, fmt::format("status \"{}\" is not one of growing, connected, exited, max_steps", printable(r[5])));
+    status[i] = static_cast<std::uint8_t>(known);
     length[i] = static_cast<float>(num(r[9]));
     steps[i] = static_cast<std::uint32_t>(num(r[10]));
-    target[i] = static_cast<std::int32_t>(num(r[11]));
+    const double t = num(r[11]);
+    if (!(t == -1 || (t >= 0 && t < static_cast<double>(n) && t == std::floor(t))))
+      refuse(i, fmt::format("target {} is not a neuron id (0 to {}) or -1", printable(r[11]), n - 1));
+    target[i] = static_cast<std::int32_t>(t);
     steps_run = std::max(steps_run, steps[i]);
     extent = std::max(extent, std::sqrt(num(r[1]) * num(r[1]) + num(r[2]) * num(r[2]) + num(r[3]) * num(r[3])));
   }
@@ -161,8 +185,9 @@ int cmd_view(const std::string& dir_name) {
   data["steps"] = b64(steps);
   data["target"] = b64(target);
   data["length"] = b64(length);
-  if (!fs::exists(dir / "connections.csv")) missing.push_back("connections.csv");
-  if (load_csv(dir / "bfs.csv", bfs)) {
+  if (n == 0) throw InputError(fmt::format("view: {} holds a run of no neurons: nothing to draw", dir_name));
+  if (!listed("connections.csv")) missing.push_back("connections.csv");
+  if (load_listed("bfs.csv", bfs)) {
     for (const char* col : {"level", "component"}) {
       const int c = bfs.col(col);
       if (c < 0) continue;
@@ -190,7 +215,7 @@ int cmd_view(const std::string& dir_name) {
     seg_step.push_back(step_b);
     seg_owner.push_back(owner);
   };
-  if (load_csv(dir / "paths.csv", paths)) {
+  if (load_listed("paths.csv", paths)) {
     const std::size_t stride = (paths.rows.size() + kMaxPathPoints - 1) / kMaxPathPoints;
     if (stride > 1)
       notes.push_back(fmt::format("paths thinned: {} points, every {}th step kept (and each axon's last)",
@@ -223,12 +248,12 @@ int cmd_view(const std::string& dir_name) {
   data["paths"] = {{"points", b64(seg_pos)}, {"step", b64(seg_step)}, {"owner", b64(seg_owner)}};
 
   json src = json::array();
-  if (load_csv(dir / "sources.csv", sources))
+  if (load_listed("sources.csv", sources))
     for (const auto& r : sources.rows) src.push_back({{"kind", r[1]}, {"x", num(r[2])}, {"y", num(r[3])}, {"z", num(r[4])}});
   data["sources"] = src;
 
   json frames = json::array();
-  if (load_csv(dir / "particles.csv", particles)) {
+  if (load_listed("particles.csv", particles)) {
     std::size_t start = 0;
     while (start < particles.rows.size()) {
       std::size_t end = start;
@@ -251,17 +276,13 @@ int cmd_view(const std::string& dir_name) {
   data["frames"] = frames;
 
   std::string title = fmt::format("axonguide: {}", fs::weakly_canonical(dir).filename().string());
-  if (fs::exists(dir / "manifest.json")) {
-    try {
-      const json m = json::parse(read_text(dir / "manifest.json"));
-      steps_run = std::max<std::uint32_t>(steps_run, m.at("summary").at("steps_run").get<std::uint32_t>());
-      title = fmt::format("axonguide: {} neurons, {} guidance, seed {}", m.at("summary").at("neurons").get<std::size_t>(),
-                          m.at("scene").at("guidance").at("model").get<std::string>(), m.at("seed").get<std::uint64_t>());
-    } catch (const std::exception&) {
-      notes.push_back("manifest.json unreadable");
-    }
-  } else {
-    missing.push_back("manifest.json");
+  try {
+    const json& m = manifest;
+    steps_run = std::max<std::uint32_t>(steps_run, m.at("summary").at("steps_run").get<std::uint32_t>());
+    title = fmt::format("axonguide: {} neurons, {} guidance, seed {}", m.at("summary").at("neurons").get<std::size_t>(),
+                        m.at("scene").at("guidance").at("model").get<std::string>(), m.at("seed").get<std::uint64_t>());
+  } catch (const std::exception&) {
+    notes.push_back("the manifest has no run summary");
   }
   meta["neurons"] = n;
   meta["steps_run"] = steps_run;
@@ -311,9 +332,15 @@ int cmd_plot(const std::string& dir_name) {
   if (python.empty()) throw RunError("plot: no python3 with matplotlib (install Debian's python3-matplotlib)");
   const fs::path script =
       asset_dir("AXG_VIEWER_DIR", validate::source_dir() / "viewer") / "plot_run.py";
+  require_whole_run(dir, "plot");
+  // The helper prints one line and exits 2 (data) or 3 (machine) on every failure it can
+  // catch; anything else (a crash, a signal, no interpreter) is reported here as one line.
   const int rc = std::system(fmt::format("'{}' '{}' '{}'", python, script.string(), dir.string()).c_str());
-  if (rc != 0) throw RunError(fmt::format("plot: {} failed (exit {})", script.string(), rc));
-  return kExitOk;
+  if (rc == -1) throw RunError(fmt::format("plot: cannot start {}", python));
+  if (WIFSIGNALED(rc)) throw RunError(fmt::format("plot: {} was killed by signal {}", script.string(), WTERMSIG(rc)));
+  const int code = WIFEXITED(rc) ? WEXITSTATUS(rc) : kExitCannotRun;
+  if (code == kExitOk || code == kExitBadInput || code == kExitCannotRun) return code;
+  throw RunError(fmt::format("plot: {} failed (exit status {})", script.string(), code));
 }
 
 }  // namespace axg::app

@@ -118,5 +118,27 @@ def main(d):
     return 0 if made else 2
 
 
+def run(argv):
+    """Every failure is one line on stderr and exit 2 (data that is not a run's) or 3 (the
+    machine: files, memory, matplotlib); never a traceback."""
+    if len(argv) != 2:
+        print("axonguide: plot: usage: plot_run.py DIR", file=sys.stderr)
+        return 2
+    try:
+        return main(argv[1])
+    except (ValueError, KeyError, IndexError, TypeError, ZeroDivisionError, UnicodeError, csv.Error) as e:
+        print(f"axonguide: plot: {argv[1]} holds data that is not a run's ({type(e).__name__}: {e})", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("axonguide: plot: out of memory", file=sys.stderr)
+        return 3
+    except OSError as e:
+        print(f"axonguide: plot: {e.strerror or e} ({e.filename or argv[1]})", file=sys.stderr)
+        return 3
+    except Exception as e:  # matplotlib's own failures, and anything else
+        print(f"axonguide: plot: failed: {type(e).__name__}: {e}", file=sys.stderr)
+        return 3
+
+
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1]))
+    sys.exit(run(sys.argv))

@@ -150,6 +150,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"run {tmp}/bothlengths.json --out {tmp}/o", 2, "axons.step_length = 0.35 and axons.growth_speed = 1"},
         BadRun{"run --seed -3 --out {tmp}/o", 2, "--seed -3: must be an unsigned 64-bit integer"},
         BadRun{"run --seed 99999999999999999999 --out {tmp}/o", 2, "must be an unsigned 64-bit integer"},
+        BadRun{"run --seed '' --out {tmp}/o", 2, "--seed : must be an unsigned 64-bit integer"},
         BadRun{"run --threads -1 --out {tmp}/o", 2, "--threads"},
         BadRun{"run --backend opencl --out {tmp}/o", 2, "--backend"},
         BadRun{"frobnicate", 2, "unknown command 'frobnicate'"}),

@@ -6,6 +6,9 @@
 
 #include <cstdio>
 #include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "support.hpp"
 
@@ -85,15 +88,89 @@ TEST(viewer, BrowserPageRendersTheSceneWithoutErrors) {
 
 TEST(viewer, PageSaysWhatIsMissing) {
   test::TempDir tmp;
-  const fs::path run = small_run(tmp);
-  for (const char* f : {"bfs.csv", "paths.csv", "manifest.json", "connections.csv"}) fs::remove(run / f);
+  std::ofstream(tmp.path() / "bare.json") << R"({"steps": 10, "neurons": {"count": 50, "region": {"radius": 2}},
+      "guidance": {"model": "direct"}, "analysis": {"bfs_sources": [], "components": false}})";
+  const fs::path run = tmp.path() / "run";
+  ASSERT_EQ(shell(fmt::format("{} run {} --out {} -q", test::binary(), (tmp.path() / "bare.json").string(), run.string())).code, 0);
   const Out v = shell(fmt::format("{} view {}", test::binary(), run.string()));
   ASSERT_EQ(v.code, 0) << v.text;
   EXPECT_NE(v.text.find("missing bfs.csv"), std::string::npos) << v.text;
   const std::string page = test::read_file(run / "view.html");
-  for (const char* m : {"missing: bfs.csv", "missing: manifest.json", "missing: connections.csv", "no paths.csv"})
-    EXPECT_NE(page.find(m), std::string::npos) << m;
+  for (const char* m : {"missing: bfs.csv", "no paths.csv"}) EXPECT_NE(page.find(m), std::string::npos) << m;
   EXPECT_EQ(shell(fmt::format("{} view {}", test::binary(), (tmp.path() / "nope").string())).code, 2);
+}
+
+// The list of files a run's manifest holds, re-hashed after a file was edited: the
+// folder verifies, but its data is not a run's.
+void rehash(const fs::path& run, const std::string& name) {
+  auto m = nlohmann::json::parse(test::read_file(run / "manifest.json"));
+  m["files"][name]["sha256"] = sha256_file(run / name);
+  std::ofstream(run / "manifest.json") << m.dump(2);
+}
+
+void replace_line(const fs::path& file, int line, const std::string& text) {
+  std::istringstream in(test::read_file(file));
+  std::string out, l;
+  for (int k = 1; std::getline(in, l); ++k) out += (k == line ? text : l) + "\n";
+  std::ofstream(file, std::ios::binary) << out;
+}
+
+// view draws only whole runs, only the files they list, and only a run's data.
+TEST(viewer, RefusesWhatIsNotARun) {
+  test::TempDir tmp;
+  const fs::path run = small_run(tmp);
+  auto view = [&](const fs::path& d) { return shell(fmt::format("{} view {}", test::binary(), d.string())); };
+  // An empty folder; a folder whose files were deleted or changed.
+  fs::create_directories(tmp.path() / "empty");
+  Out v = view(tmp.path() / "empty");
+  EXPECT_EQ(v.code, 2);
+  EXPECT_NE(v.text.find("not a whole run"), std::string::npos) << v.text;
+  const fs::path copy = tmp.path() / "copy";
+  fs::copy(run, copy, fs::copy_options::recursive);
+  fs::remove(copy / "paths.csv");
+  v = view(copy);
+  EXPECT_EQ(v.code, 2);
+  EXPECT_NE(v.text.find("paths.csv: missing"), std::string::npos) << v.text;
+  // NaN somas, unknown statuses and targets that are not neuron ids, with the manifest
+  // re-hashed so that only the data says it is not a run's.
+  const std::string original = test::read_file(run / "neurons.csv");
+  for (const auto& [row, why] : {std::pair{"0,nan,0,0,0.25,growing,0,0,0,0,0,-1", "not finite"},
+                                 std::pair{"0,0,0,0,0.25,flying,0,0,0,0,0,-1", "status \"flying\""},
+                                 std::pair{"0,0,0,0,0.25,connected,0,0,0,0,0,150", "target 150 is not a neuron id"},
+                                 std::pair{"0,0,0,0,0.25,connected,0,0,0,0,0,-7", "target -7 is not a neuron id"},
+                                 std::pair{"5,0,0,0,0.25,growing,0,0,0,0,0,-1", "id 5 where 0 belongs"}}) {
+    std::ofstream(run / "neurons.csv", std::ios::binary) << original;
+    replace_line(run / "neurons.csv", 2, row);
+    rehash(run, "neurons.csv");
+    v = view(run);
+    EXPECT_EQ(v.code, 2) << row;
+    EXPECT_NE(v.text.find(why), std::string::npos) << v.text;
+  }
+}
+
+// plot: every failure of its helper is one line and exit 2 or 3, never a traceback.
+TEST(viewer, PlotFailuresAreOneLine) {
+  if (!has("/usr/bin/python3 -c 'import matplotlib'")) GTEST_SKIP() << "python3-matplotlib is not installed";
+  test::TempDir tmp;
+  const fs::path run = small_run(tmp);
+  for (const auto& [file, line] : {std::pair{"stats.csv", std::string("zero,1,2,3,4")},
+                                   std::pair{"stats.csv", std::string("\xff\xfe\x01,1")},
+                                   std::pair{"connections.csv", std::string("0,99999,3,1.5")}}) {
+    const std::string before = test::read_file(run / file);
+    replace_line(run / file, 2, line);
+    rehash(run, file);
+    const Out p = shell(fmt::format("{} plot {}", test::binary(), run.string()));
+    EXPECT_EQ(p.code, 2) << p.text;
+    EXPECT_EQ(p.text.find("Traceback"), std::string::npos) << p.text;
+    EXPECT_NE(p.text.find("axonguide: plot: "), std::string::npos) << p.text;
+    std::ofstream(run / file, std::ios::binary) << before;
+    rehash(run, file);
+  }
+  // Not a run at all: refused before the helper starts.
+  fs::create_directories(tmp.path() / "empty");
+  const Out p = shell(fmt::format("{} plot {}", test::binary(), (tmp.path() / "empty").string()));
+  EXPECT_EQ(p.code, 2);
+  EXPECT_NE(p.text.find("not a whole run"), std::string::npos) << p.text;
 }
 
 TEST(viewer, PlotWritesEveryPng) {

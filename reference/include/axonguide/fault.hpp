@@ -2,8 +2,9 @@
 // A test hook for crash consistency: when the environment variable AXG_FAULT_KILL_AT
 // names a point ("placement", "setup", "step N", "checkpoint N", "output FILE",
 // "manifest"), the process sends itself SIGKILL there, as `kill -9` would. The resume
-// tests use it to kill a run at exact points of every stage; unset, it costs one
-// comparison against an empty string.
+// tests use it to kill a run at exact points of every stage; unset, it costs a null
+// test. AXG_FAULT_SIGNAL=INT, TERM or STOP sends that
+// signal instead (the interruption and lock tests).
 #include <string_view>
 
 namespace axg {

@@ -54,13 +54,22 @@ class FolderLock {
   int fd_ = -1;
 };
 
-// Makes DIR ready for a new run. An empty folder, or one holding only files a run does
-// not write, is taken as it is. A folder holding a run (any status) is refused unless
-// `force`; with force, exactly the files its manifest lists (and the manifest, the
-// checkpoint and this version's temporary files) are removed. Run outputs without a
-// manifest are refused even with force: nothing says whose they are. Returns the files
-// left that an earlier run's readers made (view.html, plots), for a warning.
-std::vector<std::string> claim_run_folder(const std::filesystem::path& dir, bool force);
+// What a new run in DIR must replace. An empty folder, or one holding only files a run
+// does not write, is taken as it is. A folder holding a run (any status) is refused
+// unless `force`; with force, `replacing` is exactly the files its manifest lists (with
+// the manifest and the checkpoint). Run outputs without a manifest are refused even with
+// force: nothing says whose they are. Nothing is removed here: the new run first writes
+// its running manifest, which lists `replacing`, and then removes them
+// (remove_run_files), so that a kill at any point leaves a manifest naming every file.
+struct FolderClaim {
+  std::vector<std::string> replacing;
+  std::vector<std::string> foreign;  // files left that no run wrote (notes, view.html, plots)
+};
+FolderClaim claim_run_folder(const std::filesystem::path& dir, bool force);
+
+// Removes these files of DIR (names relative to it; "vtk/*.vtp" for the VTK frames),
+// the temporary files of killed runs, and vtk/ when it is left empty.
+void remove_run_files(const std::filesystem::path& dir, const std::vector<std::string>& names);
 
 // Removes the temporary files (".NAME.tmp-PID") of runs that were killed in DIR.
 void remove_stale_temporaries(const std::filesystem::path& dir);

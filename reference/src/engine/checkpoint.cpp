@@ -23,7 +23,10 @@ namespace fs = std::filesystem;
 
 void fault_point(std::string_view name) {
   static const char* const at = std::getenv("AXG_FAULT_KILL_AT");
-  if (at != nullptr && name == at) ::raise(SIGKILL);
+  if (at == nullptr || name != at) return;
+  static const char* const sig = std::getenv("AXG_FAULT_SIGNAL");
+  const std::string_view which = sig ? sig : "KILL";
+  ::raise(which == "INT" ? SIGINT : which == "TERM" ? SIGTERM : which == "STOP" ? SIGSTOP : SIGKILL);
 }
 
 std::string scene_hash(const Scene& scene) { return sha256_hex(scene_to_json(scene).dump()); }

@@ -72,7 +72,7 @@ bool safe_relative(const std::string& name) {
 void remove_file(const fs::path& p) {
   std::error_code ec;
   fs::remove(p, ec);
-  if (ec) throw RunError(fmt::format("--force: cannot remove {}: {}", p.string(), ec.message()));
+  if (ec) throw RunError(fmt::format("cannot remove {}: {}", p.string(), ec.message()));
 }
 
 }  // namespace
@@ -220,20 +220,21 @@ void remove_stale_temporaries(const fs::path& dir) {
   }
 }
 
-std::vector<std::string> claim_run_folder(const fs::path& dir, bool force) {
+FolderClaim claim_run_folder(const fs::path& dir, bool force) {
   std::error_code ec;
-  std::vector<std::string> outputs, others;
+  std::vector<std::string> outputs;
+  FolderClaim claim;
   for (const fs::path& d : {dir, dir / "vtk"}) {
     if (!fs::is_directory(d, ec)) continue;
     for (const auto& e : fs::directory_iterator(d, ec)) {
       const std::string name = fs::relative(e.path(), dir, ec).generic_string();
       if (name == kLockName || name == "vtk" || is_temporary(e.path().filename().string())) continue;
-      (is_run_output(name) ? outputs : others).push_back(name);
+      (is_run_output(name) ? outputs : claim.foreign).push_back(name);
     }
   }
   std::sort(outputs.begin(), outputs.end());
-  std::sort(others.begin(), others.end());
-  if (outputs.empty()) return others;
+  std::sort(claim.foreign.begin(), claim.foreign.end());
+  if (outputs.empty()) return claim;
   if (!fs::exists(dir / kManifestName, ec)) {
     std::string list;
     for (std::size_t k = 0; k < outputs.size() && k < 5; ++k) list += (k ? ", " : "") + outputs[k];
@@ -250,28 +251,42 @@ std::vector<std::string> claim_run_folder(const fs::path& dir, bool force) {
                                    dir.string(), m.value("created", std::string("?"))));
     throw InputError(fmt::format("--out {}: holds an unfinished run (status \"{}\"); continue it with `axonguide run "
                                  "--resume {}`, or give --force to replace it",
-                                 dir.string(), status, dir.string()));
+                                 dir.string(), printable(status), dir.string()));
   }
-  // The files the manifest lists (a running or interrupted run lists what it plans).
-  std::set<std::string> listed;
+  // The files the manifest lists; an unfinished run lists what it plans and what it
+  // was replacing.
+  std::set<std::string> listed{kManifestName, kCheckpointName};
   if (m.contains("files") && m["files"].is_object())
     for (auto it = m["files"].begin(); it != m["files"].end(); ++it) listed.insert(it.key());
-  if (m.contains("planned") && m["planned"].is_array())
-    for (const auto& name : m["planned"])
-      if (name.is_string()) listed.insert(name.get<std::string>());
-  const bool planned_vtk = listed.count("vtk/*.vtp") != 0;
+  for (const char* key : {"planned", "replacing"})
+    if (m.contains(key) && m[key].is_array())
+      for (const auto& name : m[key])
+        if (name.is_string()) listed.insert(name.get<std::string>());
+  const bool all_vtk = listed.count("vtk/*.vtp") != 0;
   for (const std::string& name : outputs) {
-    const bool ours = listed.count(name) != 0 || name == kManifestName || name == kCheckpointName ||
-                      (planned_vtk && name.rfind("vtk/", 0) == 0);
-    if (ours && safe_relative(name)) remove_file(dir / name);
-    else others.push_back(name);
+    if ((listed.count(name) != 0 || (all_vtk && name.rfind("vtk/", 0) == 0)) && safe_relative(name))
+      claim.replacing.push_back(name);
+    else
+      claim.foreign.push_back(name);
   }
-  if (fs::is_directory(dir / "vtk", ec) && fs::is_empty(dir / "vtk", ec)) fs::remove(dir / "vtk", ec);
+  std::sort(claim.foreign.begin(), claim.foreign.end());
+  return claim;
+}
+
+void remove_run_files(const fs::path& dir, const std::vector<std::string>& names) {
+  std::error_code ec;
+  for (const std::string& name : names) {
+    if (name == "vtk/*.vtp") {
+      std::vector<fs::path> frames;
+      for (const auto& e : fs::directory_iterator(dir / "vtk", ec))
+        if (is_run_output("vtk/" + e.path().filename().string())) frames.push_back(e.path());
+      for (const auto& p : frames) remove_file(p);
+    } else if (safe_relative(name) && is_run_output(name) && name != kManifestName) {
+      if (fs::exists(dir / name, ec)) remove_file(dir / name);
+    }
+  }
   remove_stale_temporaries(dir);
-  // The manifest goes last: until then the folder still says what it holds.
-  remove_file(dir / kManifestName);
-  std::sort(others.begin(), others.end());
-  return others;
+  if (fs::is_directory(dir / "vtk", ec) && fs::is_empty(dir / "vtk", ec)) fs::remove(dir / "vtk", ec);
 }
 
 json manifest_header(const Scene& scene, const std::string& backend, int threads,

@@ -1,0 +1,415 @@
+// A run is a whole (docs/methods.md §4.2): a run killed with SIGKILL at any point of any
+// stage, then resumed, writes the bytes of an uninterrupted run; SIGINT and SIGTERM stop
+// it with a checkpoint; a folder holds one run; `verify` tells whole from not.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "axonguide/checkpoint.hpp"
+#include "axonguide/run_folder.hpp"
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string err;
+};
+
+// The command through the shell; `env` is prefixed (e.g. AXG_FAULT_KILL_AT='step 3').
+Result axonguide(const std::string& args, const fs::path& tmp, const std::string& env = "") {
+  const fs::path err = tmp / "stderr.txt";
+  const std::string cmd = fmt::format("{} {} {} >/dev/null 2>{}", env, test::binary(), args, err.string());
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), test::read_file(err)};
+}
+
+// Every file of a run (the VTK frames included) but the two that may vary.
+std::map<std::string, std::string> outputs(const fs::path& dir) {
+  std::map<std::string, std::string> h;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string name = fs::relative(e.path(), dir).generic_string();
+    if (name == "timings.csv" || name == "manifest.json") continue;
+    h[name] = sha256_file(e.path());
+  }
+  return h;
+}
+
+// Small scenes of every field type, with a checkpoint every 4 steps.
+json base_scene() {
+  json s = scene_to_json(Scene::builtin_default());
+  s["neurons"]["count"] = 300;
+  s["steps"] = 24;
+  s["cues"]["warmup_steps"] = 6;
+  s["output"]["checkpoint_every"] = 4;
+  s["output"]["paths"] = true;
+  return s;
+}
+
+std::vector<std::pair<std::string, json>> field_scenes() {
+  std::vector<std::pair<std::string, json>> out;
+  json s = base_scene();
+  s["guidance"]["model"] = "direct";
+  out.emplace_back("direct", s);
+  out.emplace_back("particles", base_scene());
+  s = base_scene();
+  s["cues"]["particles"]["motion"] = "ballistic";
+  s["cues"]["particles"]["collisions"] = true;
+  s["output"]["vtk"] = true;
+  out.emplace_back("particles-ballistic-collisions-vtk", s);
+  s = base_scene();
+  s["cues"]["field"] = "grid";
+  s["cues"]["grid"]["spacing"] = 0.5;
+  s["cues"]["grid"]["scheme"] = "implicit";
+  out.emplace_back("grid-implicit", s);
+  s["cues"]["grid"]["scheme"] = "explicit";
+  s["cues"]["grid"]["boundary"] = "reflecting";
+  out.emplace_back("grid-explicit-reflecting", s);
+  s = base_scene();
+  s["cues"]["field"] = "analytic";
+  s["axons"]["growth_modulation"] = 0.3;
+  out.emplace_back("analytic-modulated", s);
+  s = base_scene();
+  s["cues"]["field"] = "imposed";
+  out.emplace_back("imposed", s);
+  return out;
+}
+
+// The kill points, every stage: placement, setup (warm-up), steps, a checkpoint being
+// written, each output file being written, the final manifest.
+const std::vector<std::string> kKillPoints = {
+    "placement",          "setup",           "step 3",         "checkpoint 8",          "step 13",
+    "output neurons.csv", "output stats.csv", "checkpoint 4",  "output graph.graphml", "manifest",
+    "step 22",            "output paths.csv", "checkpoint 20", "output connections.csv"};
+
+class Trial {
+ public:
+  Trial(const std::string& name, const json& scene) : name_(name) {
+    scene_ = tmp_.path() / "scene.json";
+    std::ofstream(scene_) << scene.dump();
+  }
+  const fs::path& dir() const { return tmp_.path(); }
+  fs::path scene() const { return scene_; }
+  // The uninterrupted run's outputs, once per backend.
+  const std::map<std::string, std::string>& expected(const std::string& backend) {
+    auto& e = expected_[backend];
+    if (e.empty()) {
+      const fs::path out = tmp_.path() / ("ref-" + backend);
+      const Result r = axonguide(fmt::format("run {} --out {} -q --backend {}", scene_.string(), out.string(), backend), tmp_.path());
+      EXPECT_EQ(r.code, 0) << r.err;
+      e = outputs(out);
+    }
+    return e;
+  }
+  // Kills a run at `point`, resumes it, and compares.
+  void kill_and_resume(const std::string& point, const std::string& backend, const std::string& resume_backend) {
+    SCOPED_TRACE(fmt::format("{}: killed at \"{}\" ({}), resumed on {}", name_, point, backend, resume_backend));
+    const fs::path out = tmp_.path() / fmt::format("k{}", trials_++);
+    const Result killed = axonguide(fmt::format("run {} --out {} -q --backend {}", scene_.string(), out.string(), backend),
+                                    tmp_.path(), fmt::format("AXG_FAULT_KILL_AT='{}'", point));
+    ASSERT_EQ(killed.code, 128 + SIGKILL) << killed.err;
+    EXPECT_EQ(axonguide("verify " + out.string(), tmp_.path()).code, 1);  // not whole
+    const Result resumed = axonguide(fmt::format("run --resume {} -q --backend {}", out.string(), resume_backend), tmp_.path());
+    ASSERT_EQ(resumed.code, 0) << resumed.err;
+    EXPECT_EQ(axonguide("verify " + out.string(), tmp_.path()).code, 0);
+    EXPECT_EQ(outputs(out), expected(backend));
+    EXPECT_FALSE(fs::exists(out / kCheckpointName));
+    EXPECT_FALSE(fs::exists(out / kLockName));
+  }
+
+ private:
+  test::TempDir tmp_;
+  std::string name_;
+  fs::path scene_;
+  std::map<std::string, std::map<std::string, std::string>> expected_;
+  int trials_ = 0;
+};
+
+// 7 field types x 4 kill points = 28 trials on the reference engine, each point in turn.
+TEST(resume, KilledAnywhereResumesToTheSameBytesForEveryFieldType) {
+  std::size_t next = 0;
+  for (const auto& [name, scene] : field_scenes()) {
+    Trial t(name, scene);
+    for (int k = 0; k < 4; ++k) t.kill_and_resume(kKillPoints[next++ % kKillPoints.size()], "reference", "reference");
+  }
+}
+
+// The accelerator's engine (its CPU build): killed and resumed on itself, and a
+// checkpoint of either engine resumed on the other (the state is backend-independent).
+TEST(resume, TheAcceleratorsEngineResumesToTheSameBytes) {
+  const auto scenes = field_scenes();
+  std::size_t next = 3;
+  for (std::size_t s : {1u, 3u, 5u}) {
+    Trial t(scenes[s].first, scenes[s].second);
+    for (int k = 0; k < 2; ++k) t.kill_and_resume(kKillPoints[next++ % kKillPoints.size()], "emulated", "emulated");
+    t.kill_and_resume("step 13", "emulated", "reference");
+    t.kill_and_resume("checkpoint 8", "reference", "emulated");
+  }
+}
+
+// kill -9 at random times (the run's own pace decides the stage it is in).
+TEST(resume, KilledAtRandomTimesResumesToTheSameBytes) {
+  json s = base_scene();
+  s["neurons"]["count"] = 3000;
+  s["steps"] = 60;
+  s["output"]["checkpoint_every"] = 5;
+  Trial t("random times", s);
+  const auto& want = t.expected("reference");
+  const auto t0 = std::chrono::steady_clock::now();
+  t.expected("reference");
+  std::mt19937 rng(20261202);
+  int killed = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const fs::path out = t.dir() / fmt::format("r{}", trial);
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      ::execl(test::binary().c_str(), "axonguide", "run", t.scene().c_str(), "--out", out.c_str(), "-q",
+              static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(20, 600)(rng)));
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    killed += WIFSIGNALED(status);
+    const Result resumed = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+    ASSERT_EQ(resumed.code, 0) << resumed.err;
+    EXPECT_EQ(outputs(out), want) << "trial " << trial;
+  }
+  (void)t0;
+  EXPECT_GT(killed, 0);  // at least some of them died mid-run
+}
+
+// SIGINT and SIGTERM: the step ends, a checkpoint and an "interrupted" manifest are
+// written, the exit is 130 or 143 with a message, no temporary file is left, and the
+// resume gives the uninterrupted bytes.
+TEST(resume, SigintAndSigtermStopWithACheckpoint) {
+  Trial t("signals", field_scenes()[1].second);
+  for (const auto& [sig, code] : {std::pair{"INT", 130}, std::pair{"TERM", 143}}) {
+    const fs::path out = t.dir() / fmt::format("sig{}", sig);
+    const Result r = axonguide(fmt::format("run {} --out {} -q", t.scene().string(), out.string()), t.dir(),
+                               fmt::format("AXG_FAULT_KILL_AT='step 10' AXG_FAULT_SIGNAL={}", sig));
+    EXPECT_EQ(r.code, code) << r.err;
+    EXPECT_NE(r.err.find(fmt::format("interrupted by SIG{} after step 10 of 24", sig)), std::string::npos) << r.err;
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(out)) names.insert(e.path().filename().string());
+    EXPECT_EQ(names, (std::set<std::string>{"manifest.json", kCheckpointName})) << "no temporary files, no outputs";
+    const json m = json::parse(test::read_file(out / "manifest.json"));
+    EXPECT_EQ(m["status"], "interrupted");
+    EXPECT_EQ(m["checkpoint"]["step"], 10);
+    EXPECT_EQ(m["checkpoint"]["sha256"], sha256_file(out / kCheckpointName));
+    EXPECT_EQ(read_checkpoint(out / kCheckpointName).step, 10u);
+    const Result v = axonguide("verify " + out.string(), t.dir());
+    EXPECT_EQ(v.code, 1);
+    const Result resumed = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+    ASSERT_EQ(resumed.code, 0) << resumed.err;
+    EXPECT_EQ(outputs(out), t.expected("reference"));
+  }
+}
+
+TEST(resume, RefusesAnotherSceneAnotherBuildAndADamagedCheckpoint) {
+  Trial t("refusals", field_scenes()[0].second);
+  const fs::path out = t.dir() / "k";
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", t.scene().string(), out.string()), t.dir(),
+                      "AXG_FAULT_KILL_AT='step 9'")
+                .code,
+            128 + SIGKILL);
+  // Another scene.
+  json other = field_scenes()[0].second;
+  other["seed"] = 99;
+  const fs::path other_path = t.dir() / "other.json";
+  std::ofstream(other_path) << other.dump();
+  Result r = axonguide(fmt::format("run {} --resume {} -q", other_path.string(), out.string()), t.dir());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("is not the scene of this run"), std::string::npos) << r.err;
+  // The same scene, named: accepted below. A damaged checkpoint: exit 3.
+  const std::string saved = test::read_file(out / kCheckpointName);
+  std::string damaged = saved;
+  damaged[damaged.size() / 2] ^= 1;
+  std::ofstream(out / kCheckpointName, std::ios::binary) << damaged;
+  r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.err.find("its SHA-256 does not match"), std::string::npos) << r.err;
+  std::ofstream(out / kCheckpointName, std::ios::binary) << saved.substr(0, saved.size() - 100);
+  r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.err.find("is damaged"), std::string::npos) << r.err;
+  std::ofstream(out / kCheckpointName, std::ios::binary) << saved;
+  // Another version in the manifest.
+  json m = json::parse(test::read_file(out / "manifest.json"));
+  const json good = m;
+  m["axonguide"]["version"] = "0.0.1";
+  std::ofstream(out / "manifest.json") << m.dump();
+  r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("must use the same build"), std::string::npos) << r.err;
+  std::ofstream(out / "manifest.json") << good.dump();
+  r = axonguide(fmt::format("run {} --resume {} -q", t.scene().string(), out.string()), t.dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(outputs(out), t.expected("reference"));
+  // Nothing left to resume.
+  r = axonguide(fmt::format("run --resume {}", out.string()), t.dir());
+  EXPECT_EQ(r.code, 0);
+  // Options that contradict a resume.
+  EXPECT_EQ(axonguide(fmt::format("run --resume {} --seed 3", out.string()), t.dir()).code, 2);
+  EXPECT_EQ(axonguide(fmt::format("run --resume {} --force", out.string()), t.dir()).code, 2);
+  EXPECT_EQ(axonguide(fmt::format("run --resume {}/nowhere", t.dir().string()), t.dir()).code, 2);
+}
+
+// The canonical scene of a manifest reads back as the same scene (resume depends on it).
+TEST(resume, EveryBundledSceneRoundTripsThroughItsCanonicalForm) {
+  for (const auto& e : fs::directory_iterator(fs::path(test::source_dir()) / "scenes")) {
+    if (test::is_sweep_file(e.path())) continue;
+    const Scene s = load_scene_file(e.path().string()).scene;
+    const Scene back = parse_scene(scene_to_json(s).dump(), "canonical").scene;
+    EXPECT_EQ(scene_hash(back), scene_hash(s)) << e.path();
+  }
+  for (const auto& [name, j] : field_scenes()) {
+    const Scene s = parse_scene(j.dump(), name).scene;
+    EXPECT_EQ(scene_hash(parse_scene(scene_to_json(s).dump(), "canonical").scene), scene_hash(s)) << name;
+  }
+}
+
+// One run per folder.
+TEST(run_folder, RefusesAnotherRunsFolderAndForceRemovesExactlyItsFiles) {
+  test::TempDir tmp;
+  json cue = base_scene();
+  cue["output"]["vtk"] = true;
+  const fs::path cue_path = tmp.path() / "cue.json", direct_path = tmp.path() / "direct.json";
+  std::ofstream(cue_path) << cue.dump();
+  json direct = base_scene();
+  direct["guidance"]["model"] = "direct";
+  direct["output"]["paths"] = false;
+  std::ofstream(direct_path) << direct.dump();
+  const fs::path out = tmp.path() / "o";
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", cue_path.string(), out.string()), tmp.path()).code, 0);
+  ASSERT_TRUE(fs::exists(out / "paths.csv") && fs::exists(out / "vtk") && fs::exists(out / "growth.pvd"));
+  std::ofstream(out / "notes.txt") << "mine";
+  std::ofstream(out / "vtk" / "my-view.pvsm") << "mine too";
+  Result r = axonguide(fmt::format("run {} --out {} -q", direct_path.string(), out.string()), tmp.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("holds another run"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "paths.csv"));  // refused: nothing touched
+  r = axonguide(fmt::format("run {} --out {} -q --force", direct_path.string(), out.string()), tmp.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::set<std::string> names;
+  for (const auto& e : fs::recursive_directory_iterator(out)) names.insert(fs::relative(e.path(), out).generic_string());
+  EXPECT_EQ(names, (std::set<std::string>{"bfs.csv", "connections.csv", "graph.graphml", "manifest.json", "neurons.csv",
+                                          "stats.csv", "timings.csv", "notes.txt", "vtk", "vtk/my-view.pvsm"}));
+  EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0);
+  // Outputs without a manifest: refused even with --force.
+  const fs::path bare = tmp.path() / "bare";
+  fs::create_directories(bare);
+  std::ofstream(bare / "neurons.csv") << "id\n";
+  r = axonguide(fmt::format("run {} --out {} -q --force", direct_path.string(), bare.string()), tmp.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("no manifest.json"), std::string::npos) << r.err;
+}
+
+// A kill while a --force run replaces an older one leaves a folder whose manifest names
+// every file in it: --resume finishes it, with nothing of the old run left.
+TEST(run_folder, AKilledReplacementIsStillOneRun) {
+  test::TempDir tmp;
+  json cue = base_scene();
+  cue["output"]["vtk"] = true;
+  json direct = base_scene();
+  direct["guidance"]["model"] = "direct";
+  direct["output"]["paths"] = false;
+  const fs::path cue_path = tmp.path() / "cue.json", direct_path = tmp.path() / "direct.json";
+  std::ofstream(cue_path) << cue.dump();
+  std::ofstream(direct_path) << direct.dump();
+  const fs::path want = tmp.path() / "want";
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", direct_path.string(), want.string()), tmp.path()).code, 0);
+  for (const std::string point : {"step 5", "output neurons.csv", "manifest"}) {
+    const fs::path out = tmp.path() / "o";
+    fs::remove_all(out);
+    ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", cue_path.string(), out.string()), tmp.path()).code, 0);
+    const Result k = axonguide(fmt::format("run {} --out {} -q --force", direct_path.string(), out.string()), tmp.path(),
+                               fmt::format("AXG_FAULT_KILL_AT='{}'", point));
+    ASSERT_EQ(k.code, 128 + SIGKILL) << point;
+    EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 1) << point;
+    EXPECT_EQ(axonguide("view " + out.string(), tmp.path()).code, 2) << point;
+    ASSERT_EQ(axonguide(fmt::format("run --resume {} -q", out.string()), tmp.path()).code, 0) << point;
+    EXPECT_EQ(outputs(out), outputs(want)) << point;
+  }
+}
+
+// A second run into a folder that a run holds is refused (the lock), and the first one
+// finishes whole.
+TEST(run_folder, ASecondRunIntoTheSameFolderIsRefused) {
+  test::TempDir tmp;
+  const fs::path scene = tmp.path() / "s.json", out = tmp.path() / "o";
+  std::ofstream(scene) << base_scene().dump();
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::setenv("AXG_FAULT_KILL_AT", "step 5", 1);
+    ::setenv("AXG_FAULT_SIGNAL", "STOP", 1);
+    ::execl(test::binary().c_str(), "axonguide", "run", scene.c_str(), "--out", out.c_str(), "-q",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, WUNTRACED), pid);  // stopped at step 5, holding the lock
+  ASSERT_TRUE(WIFSTOPPED(status));
+  const Result second = axonguide(fmt::format("run {} --out {} -q", scene.string(), out.string()), tmp.path());
+  EXPECT_EQ(second.code, 3);
+  EXPECT_NE(second.err.find(fmt::format("another axonguide run (pid {})", pid)), std::string::npos) << second.err;
+  const Result forced = axonguide(fmt::format("run {} --out {} -q --force", scene.string(), out.string()), tmp.path());
+  EXPECT_EQ(forced.code, 3);
+  const Result resumed = axonguide(fmt::format("run --resume {} -q", out.string()), tmp.path());
+  EXPECT_EQ(resumed.code, 3);
+  ::kill(pid, SIGCONT);
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0);
+  EXPECT_FALSE(fs::exists(out / kLockName));
+}
+
+TEST(run_folder, VerifySaysWhyAFolderIsNotWhole) {
+  test::TempDir tmp;
+  const fs::path out = tmp.path() / "o";
+  ASSERT_EQ(axonguide(fmt::format("run --out {} -q", out.string()), tmp.path()).code, 0);
+  EXPECT_TRUE(verify_run_folder(out).whole);
+  std::ofstream(out / "stats.csv", std::ios::app) << "9,9,9,9,9\n";
+  fs::remove(out / "bfs.csv");
+  FolderCheck c = verify_run_folder(out);
+  EXPECT_FALSE(c.whole);
+  ASSERT_EQ(c.problems.size(), 2u);
+  EXPECT_NE(c.problems[0].find("bfs.csv: missing"), std::string::npos) << c.problems[0];
+  EXPECT_NE(c.problems[1].find("stats.csv: SHA-256"), std::string::npos) << c.problems[1];
+  const Result r = axonguide("verify " + out.string(), tmp.path());
+  EXPECT_EQ(r.code, 1);
+  fs::remove(out / "manifest.json");
+  c = verify_run_folder(out);
+  EXPECT_FALSE(c.whole);
+  EXPECT_NE(c.problems[0].find("no manifest.json"), std::string::npos);
+  EXPECT_EQ(axonguide("verify " + tmp.path().string() + "/nowhere", tmp.path()).code, 1);
+  for (const char* reader : {"view", "plot", "assay"}) {
+    const Result refused = axonguide(fmt::format("{} {}", reader, out.string()), tmp.path());
+    EXPECT_EQ(refused.code, 2) << reader;
+    EXPECT_NE(refused.err.find("is not a whole run"), std::string::npos) << reader << ": " << refused.err;
+  }
+  // A listed name may not leave the folder.
+  std::ofstream(out / "manifest.json") << R"({"status": "complete", "files": {"../x": {"sha256": "00"}}})";
+  c = verify_run_folder(out);
+  EXPECT_FALSE(c.whole);
+  EXPECT_NE(c.problems[0].find("a name outside the folder"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace axg

@@ -34,7 +34,7 @@ int cmd_golden(const GoldenArgs& a) {
   const auto results = validate::golden_check(dir, engine_factory(a.backend), threads);
   int failed = 0;
   for (const auto& r : results) {
-    fmt::print("{:<45} {}\n", r.name, r.pass ? "identical" : "DIFFERS");
+    fmt::print("{:<45} {}\n", r.name, r.pass ? "identical" : r.verified ? "DIFFERS" : "REFUSED (does not verify)");
     for (const auto& d : r.differences) fmt::print("    {}\n", d);
     failed += !r.pass;
   }

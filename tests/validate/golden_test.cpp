@@ -4,7 +4,10 @@
 
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
 #include "axonguide/validate/golden.hpp"
 #include "support.hpp"
 
@@ -33,10 +36,56 @@ TEST(golden, ADifferentByteIsCaughtAndLocated) {
   std::size_t digit = text.find_first_of("0123456789", text.find(',', line3) + 1);
   text[digit] = text[digit] == '1' ? '2' : '1';
   std::ofstream(f, std::ios::binary) << text;
+  // As edited, the network no longer verifies against its provenance: refused, unrun.
   results = validate::golden_check(dir, {}, 2);
   EXPECT_FALSE(results[0].pass);
+  EXPECT_FALSE(results[0].verified);
+  ASSERT_EQ(results[0].differences.size(), 1u);
+  EXPECT_NE(results[0].differences[0].find("expected/neurons.csv: SHA-256 differs"), std::string::npos);
+  // Blessed that way (provenance re-hashed), it runs, and the run's byte is located.
+  const auto prov_path = dir / "direct-rejection-ball-swept" / "provenance.json";
+  auto prov = nlohmann::json::parse(test::read_file(prov_path));
+  prov["files"]["neurons.csv"] = sha256_file(f);
+  std::ofstream(prov_path) << prov.dump(2);
+  results = validate::golden_check(dir, {}, 2);
+  EXPECT_FALSE(results[0].pass);
+  EXPECT_TRUE(results[0].verified);
   ASSERT_EQ(results[0].differences.size(), 1u);
   EXPECT_NE(results[0].differences[0].find("neurons.csv: line 3"), std::string::npos) << results[0].differences[0];
+}
+
+// A network folder that lost or changed its scene.json, or gained a file, fails: it is
+// never skipped and never run against another scene.
+TEST(golden, ANetworkThatDoesNotVerifyFails) {
+  test::TempDir tmp;
+  const auto dir = copy_one(tmp, "analytic-snr");
+  const auto g = dir / "analytic-snr";
+  const std::string scene = test::read_file(g / "scene.json");
+  std::filesystem::remove(g / "scene.json");
+  auto results = validate::golden_check(dir, {}, 1);
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_FALSE(results[0].pass);
+  EXPECT_EQ(results[0].differences, std::vector<std::string>{"scene.json missing"});
+  EXPECT_THROW(validate::golden_bless(dir, "restore", 1), InputError);
+  auto j = nlohmann::json::parse(scene);
+  j["seed"] = 12345;
+  std::ofstream(g / "scene.json") << j.dump();
+  results = validate::golden_check(dir, {}, 1);
+  EXPECT_FALSE(results[0].pass);
+  EXPECT_NE(results[0].differences[0].find("not the scene provenance.json was blessed with"), std::string::npos);
+  std::ofstream(g / "scene.json") << scene;
+  std::ofstream(g / "expected" / "extra.csv") << "x\n";
+  results = validate::golden_check(dir, {}, 1);
+  EXPECT_FALSE(results[0].pass);
+  EXPECT_NE(results[0].differences[0].find("expected/extra.csv: not listed"), std::string::npos);
+  std::filesystem::remove(g / "expected" / "extra.csv");
+  EXPECT_TRUE(validate::golden_check(dir, {}, 1)[0].pass);
+  // A folder with no network in it at all.
+  std::filesystem::create_directories(dir / "stray");
+  results = validate::golden_check(dir, {}, 1);
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_FALSE(results[1].pass);
+  EXPECT_NE(results[1].differences[0].find("provenance.json missing"), std::string::npos);
 }
 
 TEST(golden, BlessRestoresAndRecordsTheReason) {

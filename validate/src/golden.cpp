@@ -31,14 +31,56 @@ std::string read_all(const fs::path& p) {
   return s.str();
 }
 
-std::vector<fs::path> golden_scenes(const fs::path& dir) {
+// Every network folder under dir: each subdirectory is one, whether or not its files are
+// all there (a network with a file missing is a failure, never a network skipped).
+std::vector<fs::path> golden_networks(const fs::path& dir) {
   if (!fs::is_directory(dir)) throw InputError(fmt::format("golden: {} is not a directory", dir.string()));
   std::vector<fs::path> out;
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_directory() && fs::exists(e.path() / "scene.json")) out.push_back(e.path());
+    if (e.is_directory()) out.push_back(e.path());
   std::sort(out.begin(), out.end());
   if (out.empty()) throw InputError(fmt::format("golden: no NAME/scene.json under {}", dir.string()));
   return out;
+}
+
+// A golden network verifies when scene.json is there and reads as the scene its
+// provenance.json records, and expected/ holds exactly the files provenance lists, with
+// their SHA-256. Returns why not (empty: it verifies).
+std::vector<std::string> verify_network(const fs::path& g) {
+  std::vector<std::string> why;
+  if (!fs::exists(g / "provenance.json")) return {"provenance.json missing (not a blessed network)"};
+  json prov;
+  try {
+    prov = json::parse(read_all(g / "provenance.json"));
+  } catch (const json::exception& e) {
+    return {fmt::format("provenance.json is not JSON ({})", e.what())};
+  }
+  if (!fs::exists(g / "scene.json")) {
+    why.push_back("scene.json missing");
+  } else {
+    try {
+      const Scene scene = load_scene_file((g / "scene.json").string()).scene;
+      if (!prov.contains("scene") || scene_to_json(scene) != prov["scene"])
+        why.push_back("scene.json is not the scene provenance.json was blessed with");
+    } catch (const InputError& e) {
+      why.push_back(fmt::format("scene.json: {}", e.what()));
+    }
+  }
+  if (!prov.contains("files") || !prov["files"].is_object() || prov["files"].empty()) {
+    why.push_back("provenance.json lists no expected files");
+    return why;
+  }
+  for (auto it = prov["files"].begin(); it != prov["files"].end(); ++it) {
+    const fs::path f = g / "expected" / it.key();
+    if (!fs::exists(f)) why.push_back(fmt::format("expected/{}: missing", it.key()));
+    else if (!it.value().is_string() || sha256_file(f) != it.value().get<std::string>())
+      why.push_back(fmt::format("expected/{}: SHA-256 differs from provenance.json", it.key()));
+  }
+  if (fs::is_directory(g / "expected"))
+    for (const auto& e : fs::directory_iterator(g / "expected"))
+      if (!prov["files"].contains(e.path().filename().string()))
+        why.push_back(fmt::format("expected/{}: not listed in provenance.json", e.path().filename().string()));
+  return why;
 }
 
 // Runs the scene into `out` (a fresh directory).
@@ -88,9 +130,17 @@ fs::path default_golden_dir() {
 std::vector<GoldenResult> golden_check(const fs::path& dir, const EngineFactory& make, int threads) {
   std::vector<GoldenResult> results;
   const fs::path work = fs::temp_directory_path() / fmt::format("axonguide-golden-{}", ::getpid());
-  for (const fs::path& g : golden_scenes(dir)) {
+  for (const fs::path& g : golden_networks(dir)) {
     GoldenResult r;
     r.name = g.filename().string();
+    // A network that does not verify is refused: it fails with the reasons, unrun.
+    r.differences = verify_network(g);
+    if (!r.differences.empty()) {
+      r.pass = false;
+      r.verified = false;
+      results.push_back(std::move(r));
+      continue;
+    }
     const Scene scene = load_scene_file((g / "scene.json").string()).scene;
     const fs::path out = work / r.name;
     run_into(scene, out, make, threads);
@@ -125,10 +175,13 @@ std::vector<std::string> golden_bless(const fs::path& dir, const std::string& re
   std::vector<std::string> changed;
   std::string log;
   bool found = only.empty();
-  for (const fs::path& g : golden_scenes(dir)) {
+  for (const fs::path& g : golden_networks(dir)) {
     const std::string name = g.filename().string();
     if (!only.empty() && name != only) continue;
     found = true;
+    if (!fs::exists(g / "scene.json"))
+      throw InputError(fmt::format("golden bless: {}/scene.json is missing (restore it from git, or remove the folder)",
+                                   g.string()));
     const Scene scene = load_scene_file((g / "scene.json").string()).scene;
     const fs::path fresh = g / "expected.new";
     run_into(scene, fresh, {}, threads);

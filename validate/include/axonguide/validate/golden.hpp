@@ -16,7 +16,8 @@ namespace axg::validate {
 struct GoldenResult {
   std::string name;
   bool pass = true;
-  std::vector<std::string> differences;  // "neurons.csv line 17: expected ... got ..."
+  bool verified = true;  // false: the network's files do not match its provenance (not run)
+  std::vector<std::string> differences;  // "neurons.csv line 17: expected ... got ...", or why unverified
 };
 
 // data/golden from the working directory, else from the source tree.

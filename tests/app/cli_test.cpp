@@ -116,6 +116,7 @@ TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
                "imposed": {"profile": "linear", "steepness": 50, "reference_length": 1}}})");
   write(tmp, "modvector.json", R"({"axons": {"growth_modulation": 0.5}, "guidance": {"model": "vector_sum"}})");
   write(tmp, "bothlengths.json", R"({"axons": {"step_length": 0.35, "growth_speed": 1}})");
+  write(tmp, "endlesssteps.json", R"({"steps": 1000000000, "guidance": {"model": "direct"}})");
   std::string args = GetParam().args;
   for (std::size_t p; (p = args.find("{tmp}")) != std::string::npos;) args.replace(p, 5, tmp.path().string());
   const Result r = run(args, tmp);
@@ -150,11 +151,28 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"run {tmp}/bothlengths.json --out {tmp}/o", 2, "axons.step_length = 0.35 and axons.growth_speed = 1"},
         BadRun{"run --seed -3 --out {tmp}/o", 2, "--seed -3: must be an unsigned 64-bit integer"},
         BadRun{"run --seed 99999999999999999999 --out {tmp}/o", 2, "must be an unsigned 64-bit integer"},
+        BadRun{"run {tmp}/endlesssteps.json --out {tmp}/o", 3, "a run of 1000 neurons needs an estimated"},
         BadRun{"run --seed '' --out {tmp}/o", 2, "--seed : must be an unsigned 64-bit integer"},
         BadRun{"run --threads -1 --out {tmp}/o", 2, "--threads"},
         BadRun{"run --backend opencl --out {tmp}/o", 2, "--backend"},
         BadRun{"frobnicate", 2, "unknown command 'frobnicate'"}),
     [](const auto& info) { return std::to_string(info.index); });
+
+// The memory estimate respects an address-space limit (ulimit -v), and refuses before
+// the output folder exists.
+TEST(cli, AddressSpaceLimitIsRespected) {
+  test::TempDir tmp;
+  write(tmp, "big.json", R"({"neurons": {"count": 2000000, "region": {"radius": 300}}, "guidance": {"model": "direct"}, "steps": 5})");
+  const auto out = tmp.path() / "o";
+  const std::string cmd = fmt::format("sh -c 'ulimit -v 300000; exec {} run {} --out {} -q' 2>{}", test::binary(),
+                                      (tmp.path() / "big.json").string(), out.string(), (tmp.path() / "err").string());
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 3);
+  const std::string err = test::read_file(tmp.path() / "err");
+  EXPECT_NE(err.find("the address-space limit (ulimit -v 300000 KiB) leaves this process"), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
 
 // The order in which a scene lists its sources is not part of the scene: `scene check`
 // prints the same canonical form, and `run` writes the same files, for a permutation.

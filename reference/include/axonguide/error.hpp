@@ -28,7 +28,12 @@ class RunError : public std::runtime_error {
 // Bytes of physical memory on this machine (0 when unknown).
 std::uint64_t physical_memory_bytes();
 
-// Throws RunError when `bytes` exceeds the machine's memory; `what` names the work.
+// Bytes this process may still allocate: the machine's memory, or less under an address
+// space limit (ulimit -v, RLIMIT_AS) after what the process already maps. Sets `why` to
+// what limits it.
+std::uint64_t usable_memory_bytes(std::string* why = nullptr);
+
+// Throws RunError when `bytes` exceeds usable_memory_bytes(); `what` names the work.
 void check_memory_estimate(std::uint64_t bytes, const std::string& what);
 
 std::string human_bytes(double bytes);

@@ -29,8 +29,8 @@ struct RunOptions {
   // Called after each step (for progress lines); may be empty.
   std::function<void(const StepStats&, std::uint32_t steps)> on_step;
   // Resume: start after this checkpoint's step, from its state (no placement, no
-  // warm-up). Its scene hash must be the scene's.
-  const RunCheckpoint* resume = nullptr;
+  // warm-up). Its scene hash must be the scene's. Its contents are moved into the run.
+  RunCheckpoint* resume = nullptr;
   // Receives the run so far and the engine's state after step `step` (0: after setup)
   // when output.checkpoint_every divides the step, when output.checkpoint_seconds have
   // passed since the last checkpoint, and when stop_requested() is true. Never after

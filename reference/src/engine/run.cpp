@@ -20,6 +20,24 @@ std::uint64_t estimate_run_bytes(const Scene& scene) {
   const double per_neuron = 2 * 24 + 12 + static_cast<double>(reference_bytes_per_neuron()) + 64;
   double bytes = n * per_neuron;
   if (scene.output.paths) bytes += n * 24.0 * (scene.steps + 1.0);
+  // Per-step bookkeeping, whatever the neuron count: a stats row (40 B) and the timing
+  // rows (48 B and a name on the heap; grow and compact, steer and the field's stages
+  // with cues, a checkpoint), each doubled for vector growth.
+  double rows = 2;
+  if (scene.uses_cues()) {
+    rows += 1;
+    if (scene.cues.field == FieldKind::kParticles) rows += scene.cues.particles.collisions ? 5 : 4;
+    if (scene.cues.field == FieldKind::kGrid) rows += 1;
+  }
+  if (scene.output.checkpoint_every != 0) rows += 1;
+  bytes += (scene.steps + 1.0) * 2.0 * (40.0 + rows * 80.0);
+  // Particle frames (paths or VTK with particles): up to kMaxFrameParticles each.
+  if ((scene.output.paths || scene.output.vtk) && scene.uses_cues() && scene.cues.field == FieldKind::kParticles) {
+    const double frames = scene.steps / static_cast<double>(scene.output.frames_every) + 1.0;
+    bytes += frames * std::min(expected_particles(scene), static_cast<double>(kMaxFrameParticles)) * 26.0;
+  }
+  // The output writers' row buffers (32 chunks of 8192 formatted rows).
+  bytes += 48.0 * 1024 * 1024;
   // Particles; a grid field is checked when it is created (a scene error, exit 2).
   if (scene.uses_cues() && scene.cues.field == FieldKind::kParticles)
     bytes += static_cast<double>(estimate_cue_bytes(scene));
@@ -66,13 +84,13 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)",
                                  scene.neurons.count, core::kNoNeuron));
   check_grid_field(scene, make_cues(scene));  // every backend refuses the same grids
-  const RunCheckpoint* resume = options.resume;
+  RunCheckpoint* resume = options.resume;
   if (resume && resume->scene_hash != scene_hash(scene))
     throw InputError("--resume: the checkpoint was written for another scene");
   RunResult r;
   Placement placement;
   if (resume) {
-    r = resume->progress;  // somas, stats, paths, frames and timings so far
+    r = std::move(resume->progress);  // somas, stats, paths, frames and timings so far
     placement.soma = r.soma;
     placement.heading = resume->engine.heading;
   } else {
@@ -87,8 +105,12 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     ScopedPhase p(r.times, 0, resume ? "resume" : "setup");
     engine = options.make_engine ? options.make_engine(scene, placement)
                                  : make_reference_engine(scene, placement);
-    if (resume) engine->load(resume->engine);
-    else engine->warm_up();
+    if (resume) {
+      engine->load(resume->engine);
+      resume->engine = EngineState{};
+    } else {
+      engine->warm_up();
+    }
   }
   r.soma = std::move(placement.soma);
   placement = Placement{};

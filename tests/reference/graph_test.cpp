@@ -1,4 +1,5 @@
-// Our CSR, BFS and components against Boost.Graph on random graphs.
+// Our CSR, BFS (its top-down and bottom-up branches) and components against Boost.Graph on
+// random graphs, and the BFS against the accelerator's emulated kernels.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -7,8 +8,10 @@
 #include <boost/graph/connected_components.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <set>
 
+#include "axonguide/accel/engines.hpp"
 #include "axonguide/graph.hpp"
 #include "axonguide/threads.hpp"
 
@@ -94,6 +97,60 @@ TEST(graph, LargeFrontierTakesTheParallelPathAndAgrees) {
   EXPECT_EQ(a.parent, b.parent);
   EXPECT_EQ(a.max_level, 2);
   EXPECT_EQ(a.parent[k + 1], 1u);  // children 1 and 2 both reach k+1: the lowest wins
+}
+
+// The direction-optimizing BFS expands a level bottom-up only on graphs above 2^17
+// vertices and only when the level is dense; random digraphs of that size below it, and the
+// properties above, never get there. 150,001 vertices with 10 out-edges each: the levels
+// grow tenfold, so the middle ones are dense. Levels against Boost, parents against the
+// lowest-id rule from the out-lists, both on 1 and 2 threads, and against the accelerator's
+// two BFS kernels (its CPU-emulated build).
+TEST(graph, BottomUpLevelsEqualBoostTheParentRuleAndTheAccelerator) {
+  const std::size_t n = (std::size_t{1} << 17) + 18929;
+  const Csr g = random_digraph(n, 10 * n, 2017, core::Stream::kValidation, 3);
+  const Csr in = transpose(g);
+  const std::vector<std::uint32_t> sources{5, 77777};
+  const BfsResult one = with_threads(1, [&] { return bfs(g, in, sources); });
+  const BfsResult two = with_threads(2, [&] { return bfs(g, in, sources); });
+  ASSERT_GT(one.bottom_up_levels, 0) << "no level ran bottom-up: the test does not cover that branch";
+  EXPECT_LT(one.bottom_up_levels, one.max_level + 1) << "no level ran top-down";
+  EXPECT_EQ(two.bottom_up_levels, one.bottom_up_levels);
+  EXPECT_EQ(two.level, one.level);
+  EXPECT_EQ(two.parent, one.parent);
+  std::printf("%d of %d levels bottom-up\n", one.bottom_up_levels, one.max_level + 1);
+
+  // Boost, from a multi-source BFS (one queue seeded with both sources).
+  BoostGraph bg(n);
+  for (std::size_t u = 0; u < n; ++u)
+    for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) boost::add_edge(u, g.targets[k], bg);
+  std::vector<int> level(n, -1);
+  for (std::uint32_t s : sources) level[s] = 0;
+  std::vector<boost::default_color_type> color(n, boost::white_color);
+  boost::queue<BoostGraph::vertex_descriptor> queue;
+  boost::breadth_first_search(
+      bg, sources.begin(), sources.end(), queue,
+      boost::make_bfs_visitor(boost::record_distances(level.data(), boost::on_tree_edge())), color.data());
+  EXPECT_EQ(one.level, std::vector<std::int32_t>(level.begin(), level.end()));
+
+  // Parent = the lowest id among the in-neighbours one level up, found from the out-lists.
+  std::vector<std::uint32_t> expect(n, kNoParent);
+  for (std::size_t u = 0; u < n; ++u)
+    for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
+      const std::uint32_t v = g.targets[k];
+      if (one.level[u] >= 0 && one.level[v] == one.level[u] + 1) expect[v] = std::min(expect[v], static_cast<std::uint32_t>(u));
+    }
+  EXPECT_EQ(one.parent, expect);
+  std::size_t reached = 0;
+  for (std::int32_t l : one.level) reached += l >= 0;
+  EXPECT_EQ(one.reached, reached);
+  EXPECT_GT(reached, n / 2);
+
+  for (const BfsResult& r : {accel::bfs_queue(g, sources, false), accel::bfs_level_sync(g, sources, false)}) {
+    EXPECT_EQ(r.level, one.level);
+    EXPECT_EQ(r.parent, one.parent);
+    EXPECT_EQ(r.max_level, one.max_level);
+    EXPECT_EQ(r.reached, one.reached);
+  }
 }
 
 TEST(graph, MultipleSourcesAndUnreached) {

@@ -34,6 +34,9 @@ struct BfsResult {
   std::vector<std::uint32_t> parent;  // kNoParent for sources and unreached (written as -1)
   std::int32_t max_level = -1;
   std::size_t reached = 0;
+  // How many levels the reference expanded bottom-up (a statistic for tests and benchmarks,
+  // not part of the result: levels and parents are the same either way; 0 elsewhere).
+  std::int32_t bottom_up_levels = 0;
 };
 
 // Level-synchronous BFS over the out-edges of g from every source at once (level 0).

@@ -142,6 +142,7 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
     frontier_edges = 0;
     counted = bottom_up;  // the bottom-up expansion counts as it goes
     if (bottom_up) {
+      ++r.bottom_up_levels;
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& b) {
         Found& out = local.local();
         // Relaxed atomic accesses: other threads read levels this pass writes (a written

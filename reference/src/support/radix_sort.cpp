@@ -11,16 +11,18 @@ namespace axg {
 namespace {
 constexpr int kDigitBits = 11;
 constexpr std::uint32_t kBuckets = 1u << kDigitBits;
-constexpr std::size_t kChunk = 1u << 16;  // elements per histogram chunk
 }  // namespace
 
 void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& values,
                         std::uint32_t max_key, SortScratch& scratch) {
   const std::size_t n = keys.size();
+  scratch.chunks_used = 0;
   if (n < 2) return;
+  const std::size_t chunk = std::max<std::size_t>(1, scratch.chunk);
   int passes = 0;
   for (std::uint64_t span = 1; span <= max_key; span <<= kDigitBits) ++passes;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t chunks = (n - 1) / chunk + 1;
+  scratch.chunks_used = chunks;
   std::vector<std::uint32_t>& keys2 = scratch.keys;
   std::vector<std::uint32_t>& values2 = scratch.values;
   std::vector<std::uint32_t>& count = scratch.counts;
@@ -32,8 +34,8 @@ void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint3
     std::fill(count.begin(), count.end(), 0u);
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
       std::uint32_t* h = &count[c * kBuckets];
-      const std::size_t end = std::min(n, (c + 1) * kChunk);
-      for (std::size_t i = c * kChunk; i < end; ++i) ++h[(keys[i] >> shift) & (kBuckets - 1)];
+      const std::size_t end = std::min(n, (c + 1) * chunk);
+      for (std::size_t i = c * chunk; i < end; ++i) ++h[(keys[i] >> shift) & (kBuckets - 1)];
     });
     // Exclusive scan in (digit, chunk) order: chunk c's items of a digit come after those
     // of chunks < c, which is what makes the pass stable.
@@ -46,8 +48,8 @@ void stable_sort_by_key(std::vector<std::uint32_t>& keys, std::vector<std::uint3
       }
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
       std::uint32_t* h = &count[c * kBuckets];
-      const std::size_t end = std::min(n, (c + 1) * kChunk);
-      for (std::size_t i = c * kChunk; i < end; ++i) {
+      const std::size_t end = std::min(n, (c + 1) * chunk);
+      for (std::size_t i = c * chunk; i < end; ++i) {
         const std::uint32_t pos = h[(keys[i] >> shift) & (kBuckets - 1)]++;
         keys2[pos] = keys[i];
         values2[pos] = values[i];

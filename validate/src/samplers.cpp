@@ -71,10 +71,8 @@ std::vector<double> draw(Method m, bool ball, int d, std::size_t n, std::uint32_
           const double r = core::ball_radius(rng, 1.0, 3);
           for (int k = 0; k < 3; ++k) p[k] *= r;
         }
-      } else if (ball) {
-        sample_ball(sampler_of(m), rng, d, 1.0, p);
       } else {
-        sample_direction(sampler_of(m), rng, d, p);
+        sampler_point(sampler_of(m), ball, d, 1.0, rng, p);
       }
     });
   });
@@ -148,6 +146,18 @@ std::vector<Case> cases(bool quick) {
 }
 
 }  // namespace
+
+void sampler_point(core::Sampler sampler, bool ball, int d, double radius, core::Rng& rng, double* out) {
+  if (d == 3) {  // placement's own calls (soma_draw, heading_draw)
+    const core::Vec3 v = ball ? sample_region_point(core::RegionShape::kBall, radius, sampler, rng)
+                              : sample_direction3(sampler, rng);
+    out[0] = v.x, out[1] = v.y, out[2] = v.z;
+  } else if (ball) {
+    sample_ball(sampler, rng, d, radius, out);
+  } else {
+    sample_direction(sampler, rng, d, out);
+  }
+}
 
 void validate_samplers(const Options& o, Report& r) {
   const std::vector<Case> all = cases(o.quick);

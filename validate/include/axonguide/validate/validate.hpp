@@ -3,7 +3,9 @@
 // a Report; `all` runs every study into DIR/<study>/ and writes an index.
 #include <string>
 
+#include "axonguide/core/random.hpp"
 #include "axonguide/core/steering.hpp"
+#include "axonguide/core/types.hpp"
 #include "axonguide/validate/report.hpp"
 
 namespace axg::validate {
@@ -17,6 +19,10 @@ struct Options {
 };
 
 void validate_samplers(const Options& o, Report& r);
+// One point as `validate samplers` draws it: a direction on S^(d-1), or with `ball` a point
+// of the ball of the given radius. For d = 3 these are placement's own calls
+// (sample_region_point, sample_direction3), so the validated samplers are the placed ones.
+void sampler_point(core::Sampler sampler, bool ball, int d, double radius, core::Rng& rng, double* out);
 void validate_points_file(const Options& o, Report& r);
 void validate_field(const Options& o, Report& r);
 void validate_stiff(const Options& o, Report& r);

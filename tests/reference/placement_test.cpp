@@ -1,0 +1,147 @@
+// Placement's samplers: the points `axonguide validate samplers` tests are the points
+// placement places (same calls, same bits), and a box region is filled uniformly (a
+// chi-square test over cells that also rejects a slightly non-uniform control).
+#include <gtest/gtest.h>
+
+#include <gsl/gsl_cdf.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "axonguide/core/random.hpp"
+#include "axonguide/placement.hpp"
+#include "axonguide/sampler_nd.hpp"
+#include "axonguide/scene.hpp"
+#include "axonguide/validate/validate.hpp"
+
+namespace axg {
+namespace {
+
+using core::bits_of;
+using core::Rng;
+using core::Sampler;
+using core::Stream;
+using core::Vec3;
+
+constexpr Sampler kSamplers[] = {Sampler::kRejection, Sampler::kNormal, Sampler::kTrig, Sampler::kCoordinate};
+
+::testing::AssertionResult same_bits(Vec3 a, const double* b) {
+  if (bits_of(a.x) == bits_of(b[0]) && bits_of(a.y) == bits_of(b[1]) && bits_of(a.z) == bits_of(b[2]))
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "(" << a.x << ", " << a.y << ", " << a.z << ") != (" << b[0] << ", " << b[1]
+                                       << ", " << b[2] << ")";
+}
+
+TEST(placement, ValidatedSamplersAreThePlacedOnes) {
+  for (const Sampler s : kSamplers) {
+    Scene scene;
+    scene.seed = 90210;
+    scene.neurons.sampler = s;
+    scene.neurons.count = 500;
+    scene.neurons.overlap_reject = false;
+    for (const auto& [shape, radius, ball] : {std::tuple{RegionShape::kBall, 1.0, true}, std::tuple{RegionShape::kBall, 6.5, true},
+                                              std::tuple{RegionShape::kSphere, 1.0, false}}) {
+      scene.neurons.shape = shape;
+      scene.neurons.radius = radius;
+      const std::string what = std::string(name_of(shape)) + " radius " + std::to_string(radius) + ", sampler " +
+                               std::to_string(static_cast<int>(s));
+      const Placement placed = place_neurons(scene);
+      for (std::uint64_t id = 0; id < scene.neurons.count; ++id) {
+        double p[3];
+        Rng rng(scene.seed, Stream::kPlacement, id, 0);
+        validate::sampler_point(s, ball, 3, ball ? radius : 1.0, rng, p);
+        if (!ball) p[0] *= radius, p[1] *= radius, p[2] *= radius;
+        ASSERT_TRUE(same_bits(placed.soma[id], p)) << what << ", neuron " << id;
+        // A redraw (attempt 3) goes through the same function.
+        Rng again(scene.seed, Stream::kPlacement, id, 3);
+        validate::sampler_point(s, ball, 3, ball ? radius : 1.0, again, p);
+        if (!ball) p[0] *= radius, p[1] *= radius, p[2] *= radius;
+        ASSERT_TRUE(same_bits(soma_draw(scene, id, 3), p)) << what << ", neuron " << id << ", attempt 3";
+        // Headings: validate's directions.
+        Rng heading(scene.seed, Stream::kAxonDirection, id, 0);
+        validate::sampler_point(s, false, 3, 1.0, heading, p);
+        ASSERT_TRUE(same_bits(placed.heading[id], p)) << what << ", heading " << id;
+      }
+    }
+  }
+}
+
+// validate samplers draws d = 3 through placement's functions and other d through the
+// d-dimensional ones; at d = 3 those give the same bits as well.
+TEST(placement, DimensionGeneralSamplersAtThreeDimensionsAreTheThreeDimensionalOnes) {
+  for (const Sampler s : kSamplers)
+    for (std::uint64_t id = 0; id < 2000; ++id) {
+      double p[3];
+      Rng a(7, Stream::kValidation, id, 1), b(7, Stream::kValidation, id, 1);
+      sample_direction(s, a, 3, p);
+      ASSERT_TRUE(same_bits(sample_direction3(s, b), p)) << static_cast<int>(s) << ", point " << id;
+      Rng c(7, Stream::kValidation, id, 2), d(7, Stream::kValidation, id, 2);
+      sample_ball(s, c, 3, 2.5, p);
+      ASSERT_TRUE(same_bits(sample_region_point(RegionShape::kBall, 2.5, s, d), p)) << static_cast<int>(s) << ", point " << id;
+    }
+}
+
+// Pearson's chi-square of points in the cube [-h, h]^3 over cells^3 equal cells, and its
+// p-value (chi-square law with cells^3 - 1 degrees of freedom).
+double box_uniformity_p(const std::vector<Vec3>& points, double h, int cells) {
+  std::vector<double> count(static_cast<std::size_t>(cells * cells * cells), 0.0);
+  auto cell = [&](double v) {
+    const int c = static_cast<int>(std::floor((v + h) / (2.0 * h) * cells));
+    return std::min(cells - 1, std::max(0, c));
+  };
+  for (const Vec3& p : points) count[(cell(p.z) * cells + cell(p.y)) * cells + cell(p.x)] += 1.0;
+  const double expected = static_cast<double>(points.size()) / static_cast<double>(count.size());
+  double chi2 = 0.0;
+  for (double c : count) chi2 += (c - expected) * (c - expected) / expected;
+  return gsl_cdf_chisq_Q(chi2, static_cast<double>(count.size() - 1));
+}
+
+// The criterion, fixed in advance: p > 1e-4 for the placed somas (deterministic seeds, so
+// the outcome is fixed too), p < 1e-4 for a control that moves each coordinate by at most
+// 1.4 % of the half-edge towards the centre.
+constexpr double kThreshold = 1e-4;
+constexpr int kCells = 10;  // 1000 cells, 100 points expected in each
+
+Scene box_scene(const std::string& overlap) {
+  return parse_scene(R"({"seed": 4711, "neurons": {"count": 100000, "soma_radius": 0.01, "overlap": ")" + overlap +
+                         R"(", "region": {"shape": "box", "radius": 4.0}}})",
+                     "box test")
+      .scene;
+}
+
+TEST(placement, BoxRegionIsUniform) {
+  for (const std::string overlap : {"allow", "reject"}) {
+    const Scene scene = box_scene(overlap);
+    ASSERT_EQ(scene.neurons.shape, RegionShape::kBox);
+    const double h = scene.neurons.radius;
+    const Placement placed = place_neurons(scene);
+    ASSERT_EQ(placed.soma.size(), 100000u);
+    // Packing fraction 8e-7: about 330 pairs of the 10^5 independent draws overlap (the
+    // birthday effect), so "reject" redraws a few hundred somas; "allow" none.
+    EXPECT_LT(placed.redraws, overlap == "reject" ? 1000u : 1u) << overlap;
+    for (const Vec3& p : placed.soma)
+      ASSERT_TRUE(std::fabs(p.x) < h && std::fabs(p.y) < h && std::fabs(p.z) < h) << overlap;
+    const double p = box_uniformity_p(placed.soma, h, kCells);
+    EXPECT_GT(p, kThreshold) << overlap << ": chi-square p = " << p;
+    std::printf("box, overlap %s: chi-square p = %.4g over %d cells\n", overlap.c_str(), p, kCells * kCells * kCells);
+  }
+}
+
+TEST(placement, BoxUniformityTestRejectsANonUniformSample) {
+  const Scene scene = box_scene("allow");
+  const double h = scene.neurons.radius;
+  std::vector<Vec3> squeezed = place_neurons(scene).soma;
+  // x -> h sign(x) (|x|/h)^1.04 in every coordinate: per axis, the two central slabs of
+  // cells get 6.4 % more points and the two outer ones 3.5 % fewer.
+  auto squeeze = [h, kSqueeze = 1.04](double v) { return std::copysign(h * std::pow(std::fabs(v) / h, kSqueeze), v); };
+  for (Vec3& p : squeezed) p = {squeeze(p.x), squeeze(p.y), squeeze(p.z)};
+  const double p = box_uniformity_p(squeezed, h, kCells);
+  EXPECT_LT(p, kThreshold) << "the chi-square test cannot see a 6 % density change: p = " << p;
+  std::printf("box, squeezed control: chi-square p = %.4g\n", p);
+}
+
+}  // namespace
+}  // namespace axg

@@ -8,9 +8,11 @@
 
 #include <ostream>
 #include <stdexcept>
+#include <type_traits>
 #include <typeinfo>
 #include <streambuf>
 
+#include "axonguide/canonical_nan.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run.hpp"
 #include "axonguide/scene.hpp"
@@ -48,14 +50,15 @@ class FileBuf : public std::streambuf {
 // A read-only dynamic property whose strings are fmt's shortest round-trip form: Boost's
 // own adaptor prints through an ostringstream at the default 6 significant digits, which
 // loses precision (and is slow). value() still reports T, so the GraphML key declares
-// the right attr.type.
+// the right attr.type. A NaN is written "nan" (canonical()), whatever its sign or payload.
 template <class Key, class T, class Fn>
 class ExactProperty final : public boost::dynamic_property_map {
  public:
   explicit ExactProperty(Fn fn) : fn_(std::move(fn)) {}
   boost::any get(const boost::any& key) override { return fn_(boost::any_cast<Key>(key)); }
   std::string get_string(const boost::any& key) override {
-    return fmt::format("{}", fn_(boost::any_cast<Key>(key)));
+    if constexpr (std::is_same_v<T, double>) return fmt::format("{}", canonical(fn_(boost::any_cast<Key>(key))));
+    else return fmt::format("{}", fn_(boost::any_cast<Key>(key)));
   }
   void put(const boost::any&, const boost::any&) override {
     throw std::logic_error("graphml properties are read-only");

@@ -8,9 +8,11 @@
 //   growth.pvd              the collection, timestep = step
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 
 #include <fmt/format.h>
 
+#include "axonguide/canonical_nan.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run.hpp"
 #include "axonguide/vtk.hpp"
@@ -98,10 +100,18 @@ class VtpWriter {
     int components;
     std::string data;
   };
+  // Float64 arrays hold one NaN bit pattern (canonical()).
   template <class T>
   static std::string bytes_of(const std::vector<T>& v) {
     std::string s(v.size() * sizeof(T), '\0');
-    if (!v.empty()) std::memcpy(s.data(), v.data(), s.size());
+    if constexpr (std::is_same_v<T, double>) {
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const double x = canonical(v[i]);
+        std::memcpy(s.data() + i * sizeof(double), &x, sizeof(double));
+      }
+    } else if (!v.empty()) {
+      std::memcpy(s.data(), v.data(), s.size());
+    }
     return s;
   }
   std::size_t points_;

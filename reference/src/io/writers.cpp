@@ -1,5 +1,5 @@
 // The files of SPEC §4. Numbers are printed in their shortest round-trip form, so a
-// file's bytes are a function of the values alone.
+// file's bytes are a function of the values alone; every NaN is printed "nan" (canonical()).
 #include <fmt/format.h>
 
 #include <chrono>
@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "axonguide/canonical_nan.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/fault.hpp"
 #include "axonguide/output.hpp"
@@ -65,11 +66,12 @@ std::int64_t signed_id(std::uint32_t id) { return id == core::kNoNeuron ? -1 : s
 void write_neurons(const RunResult& r, AtomicFile& f) {
   f.write("id,soma_x,soma_y,soma_z,radius,status,tip_x,tip_y,tip_z,length,steps,target\n");
   const auto& n = r.neurons;
-  const double radius = r.scene.neurons.soma_radius;
+  const double radius = canonical(r.scene.neurons.soma_radius);
   write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
-    fmt::format_to(std::back_inserter(b), "{},{},{},{},{},{},{},{},{},{},{},{}\n", i, r.soma[i].x, r.soma[i].y,
-                   r.soma[i].z, radius, name_of(n.status[i]), n.tip[i].x, n.tip[i].y, n.tip[i].z, n.length[i],
-                   n.steps[i], signed_id(n.target[i]));
+    const core::Vec3 soma = canonical(r.soma[i]), tip = canonical(n.tip[i]);
+    fmt::format_to(std::back_inserter(b), "{},{},{},{},{},{},{},{},{},{},{},{}\n", i, soma.x, soma.y, soma.z, radius,
+                   name_of(n.status[i]), tip.x, tip.y, tip.z, canonical(n.length[i]), n.steps[i],
+                   signed_id(n.target[i]));
   });
 }
 
@@ -79,7 +81,7 @@ void write_connections_to(const RunResult& r, Sink& f) {
   const auto& n = r.neurons;
   write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
     if (n.target[i] != core::kNoNeuron)
-      fmt::format_to(std::back_inserter(b), "{},{},{},{}\n", i, n.target[i], n.steps[i], n.length[i]);
+      fmt::format_to(std::back_inserter(b), "{},{},{},{}\n", i, n.target[i], n.steps[i], canonical(n.length[i]));
   });
 }
 
@@ -121,7 +123,7 @@ void write_paths(const RunResult& r, AtomicFile& f) {
   const auto& n = r.neurons;
   for (std::size_t i = 0; i < n.size(); ++i)
     for (std::size_t s = 0; s < r.paths.size() && s <= n.steps[i]; ++s) {
-      const core::Vec3 p = r.paths[s][i];
+      const core::Vec3 p = canonical(r.paths[s][i]);
       w.row("{},{},{},{},{}\n", i, s, p.x, p.y, p.z);
     }
   w.flush();
@@ -132,8 +134,10 @@ void write_sources(const RunResult& r, AtomicFile& f) {
   w.row("cue,kind,x,y,z,emission,diffusion,decay,kd,min_concentration,max_concentration\n");
   for (std::size_t k = 0; k < r.cues.size(); ++k) {
     const auto& c = r.cues[k];
-    w.row("{},{},{},{},{},{},{},{},{},{},{}\n", k, c.sign > 0 ? "attractant" : "repellent", c.position.x, c.position.y,
-          c.position.z, c.emission, c.diffusion, c.decay, c.kd, c.min_c, c.max_c);
+    const core::Vec3 p = canonical(c.position);
+    w.row("{},{},{},{},{},{},{},{},{},{},{}\n", k, c.sign > 0 ? "attractant" : "repellent", p.x, p.y, p.z,
+          canonical(c.emission), canonical(c.diffusion), canonical(c.decay), canonical(c.kd), canonical(c.min_c),
+          canonical(c.max_c));
   }
   w.flush();
 }
@@ -142,14 +146,15 @@ void write_particles(const RunResult& r, AtomicFile& f) {
   f.write("step,cue,x,y,z\n");
   for (const ParticleFrame& fr : r.frames)
     write_rows(f, fr.pos.size(), [&](std::size_t i, fmt::memory_buffer& b) {
-      fmt::format_to(std::back_inserter(b), "{},{},{},{},{}\n", fr.step, fr.cue[i], fr.pos[i].x, fr.pos[i].y, fr.pos[i].z);
+      const core::Vec3 p = canonical(fr.pos[i]);
+      fmt::format_to(std::back_inserter(b), "{},{},{},{},{}\n", fr.step, fr.cue[i], p.x, p.y, p.z);
     });
 }
 
 void write_timings(const RunResult& r, AtomicFile& f) {
   CsvWriter w(f);
   w.row("step,phase,seconds\n");
-  for (const auto& row : r.times.rows()) w.row("{},{},{:.9f}\n", row.step, row.phase, row.seconds);
+  for (const auto& row : r.times.rows()) w.row("{},{},{:.9f}\n", row.step, row.phase, canonical(row.seconds));
   w.flush();
 }
 

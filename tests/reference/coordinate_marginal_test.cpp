@@ -23,6 +23,7 @@
 //    allowance is 2e-14 |x|.
 #include "axonguide/coordinate_marginal.hpp"
 
+#include <gsl/gsl_sf_gamma.h>
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -38,6 +39,8 @@
 #include <stdexcept>
 #include <thread>
 #include <vector>
+
+#include "axonguide/core/pmath.hpp"
 
 namespace {
 
@@ -357,6 +360,29 @@ TEST(CoordinateMarginal, CdfAndPdfBasics) {
   EXPECT_EQ(coordinate_marginal_pdf(1.0, 4), 0.0);
   EXPECT_NEAR(coordinate_marginal_pdf(0.0, 2), 1.0 / kPi, 4.0 * kEps / kPi);
   EXPECT_NEAR(coordinate_marginal_pdf(0.3, 5), 0.75 * (1.0 - 0.09), 1e-15);
+}
+
+// The sampler's own arithmetic uses the portable log, log1p and exp (core/pmath.hpp), so it
+// is the same on every CPU and libm: the density is bit for bit the portable formula
+// exp((d-3)/2 ln(1 - x^2) - ln B(1/2, (d-1)/2)), with ln(1 - x^2) = log1p(-x^2) below
+// x^2 = 1/2 and log((1 - x)(1 + x)) above (GSL's ln B, the documented library part). The
+// ctest reference.coordinate_sampler_calls_no_libm checks its object file for libm calls.
+TEST(CoordinateMarginal, PdfIsThePortableFormulaBitForBit) {
+  namespace pm = axg::core::pm;
+  std::size_t compared = 0;
+  for (const int d : {2, 4, 5, 7, 10, 50, 100, 1000}) {
+    const double ln_beta = gsl_sf_lnbeta(0.5, 0.5 * (d - 1.0));
+    for (int k = 0; k < 20000; ++k) {
+      const double x = (k + 0.5) / 20000.0;
+      const double s = x * x;
+      const double ln_y = s < 0.5 ? pm::log1p(-s) : pm::log((1.0 - x) * (1.0 + x));
+      const double want = pm::exp(0.5 * (d - 3.0) * ln_y - ln_beta);
+      ASSERT_EQ(bits_of(coordinate_marginal_pdf(x, d)), bits_of(want)) << "d=" << d << " x=" << x;
+      ASSERT_EQ(bits_of(coordinate_marginal_pdf(-x, d)), bits_of(want)) << "d=" << d << " x=" << -x;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 160000u);
 }
 
 TEST(CoordinateMarginal, InvalidArgumentsThrow) {

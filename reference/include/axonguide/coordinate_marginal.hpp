@@ -25,8 +25,9 @@
 // relative (tails: within an ulp), and consecutive u can come out reordered by up to
 // ~6e-15 relative.
 //
-// All functions are pure: same inputs, same output bits on the same libm/GSL build, no
-// state (apart from turning GSL's abort-on-error handler off, once, thread-safely).
+// All functions are pure: same inputs, same output bits on the same GSL build, whatever the
+// CPU's libm (their own log, log1p and exp are core/pmath.hpp's), no state (apart from
+// turning GSL's abort-on-error handler off, once, thread-safely).
 // Throws std::invalid_argument for d < 2 (and, for the inverse, u outside (0, 1) or NaN).
 namespace axg {
 

@@ -11,8 +11,15 @@
 #include <gsl/gsl_sf_gamma.h>
 #include <gsl/gsl_sf_result.h>
 
+#include "axonguide/core/pmath.hpp"
+
 namespace axg {
 namespace {
+
+// The portable log, log1p and exp (core/pmath.hpp), not libm's: the sampler's own
+// arithmetic is the same on every CPU; only GSL's incomplete beta, log-beta and normal
+// quantile remain library code.
+namespace pm = core::pm;
 
 constexpr int kMaxIterations = 200;
 // A bisection is forced when the bracket has not halved for this many evaluations
@@ -103,8 +110,8 @@ double mass(const Law& law, double t, bool tail) {
 double density(const Law& law, double t) {
   if (law.d == 3) return 0.5;
   const double s = t * t;
-  const double ln_y = s < 0.5 ? std::log1p(-s) : std::log(one_minus_square(t));
-  return std::exp(0.5 * (static_cast<double>(law.d) - 3.0) * ln_y - law.ln_beta);
+  const double ln_y = s < 0.5 ? pm::log1p(-s) : pm::log(one_minus_square(t));
+  return pm::exp(0.5 * (static_cast<double>(law.d) - 3.0) * ln_y - law.ln_beta);
 }
 
 // Starting point for |x| given the lower-tail probability p in (0, 1/2).
@@ -112,9 +119,9 @@ double start_point(const Law& law, double p, bool tail_mode, double target) {
   double t0 = -1.0;
   if (tail_mode) {
     // Leading term of the tail: I_y(b, 1/2) ~ y^b / (b B(b, 1/2)) for small y.
-    const double ln_y = (std::log(target) + std::log(law.b) + law.ln_beta) / law.b;
+    const double ln_y = (pm::log(target) + pm::log(law.b) + law.ln_beta) / law.b;
     if (ln_y < -1.3862943611198906) {  // y < 1/4, where the leading term is adequate
-      t0 = std::sqrt(1.0 - std::exp(ln_y));
+      t0 = std::sqrt(1.0 - pm::exp(ln_y));
     }
   }
   if (t0 < 0.0) {
@@ -155,7 +162,7 @@ CoordinateMarginalSolve solve(double u, int d) {
   //   central (p >  1/4): r = P(|x| <= t) - (1 - 2p)  (1 - 2p exact; relative accuracy near 0)
   const bool tail_mode = p <= 0.25;
   const double target = tail_mode ? 2.0 * p : 1.0 - 2.0 * p;
-  const double ln_target = std::log(target);
+  const double ln_target = pm::log(target);
   const bool log_newton = tail_mode && d != 3;  // for d = 3 the tail is linear in t
 
   double lo = 0.0, hi = 1.0;
@@ -207,7 +214,7 @@ CoordinateMarginalSolve solve(double u, int d) {
       // h(t) = ln(2p) - ln P(|x| > t) (h' = 2 f / P): the tail is close to a power of
       // 1 - t^2, so its logarithm is nearly linear and Newton converges from far out.
       const double f2 = 2.0 * density(law, t);
-      const double dn = log_newton ? (ln_target - std::log(m)) * m / f2 : r / f2;
+      const double dn = log_newton ? (ln_target - pm::log(m)) * m / f2 : r / f2;
       const double newton = t - dn;
       const bool inside = std::isfinite(newton) && newton > lo && newton < hi;
       if (std::isfinite(dn) && std::fabs(dn) <= 0x1p-20 * t) {

@@ -238,6 +238,60 @@ TEST(pmath, EdgeExp) {
   }
 }
 
+// log1p (the coordinate sampler's ln(1 - x^2) = log1p(-x^2) for x^2 < 1/2): its own table, 10^6
+// arguments per range, within 1 ulp of glibc everywhere.
+TEST(pmath, Log1pAgainstGlibc) {
+  auto ours = [](double x) { return pm::log1p(x); };
+  auto glibc = [](double x) { return std::log1p(x); };
+  std::vector<Row> rows;
+  rows.push_back(measure("log1p", "[-0.5, 0] (the coordinate sampler's range)", 1'000'000, 51, ours, glibc,
+                         [](SplitMix64& r) { return -0.5 * r.unit(); }));
+  rows.push_back(measure("log1p", "(-1, 1]", 1'000'000, 52, ours, glibc, [](SplitMix64& r) {
+    return 1.0 - 2.0 * (static_cast<double>((r.next() >> 11) + 1) * 0x1p-53);  // [-1 + 2^-52, 1)
+  }));
+  rows.push_back(measure("log1p", "+-[2^-60, 2^-10], every binade", 1'000'000, 53, ours, glibc,
+                         [](SplitMix64& r) { return r.any_exponent(1023 - 60, 1023 - 10, true); }));
+  rows.push_back(measure("log1p", "-1 + [2^-52, 2^-2], every binade", 1'000'000, 54, ours, glibc,
+                         [](SplitMix64& r) { return -1.0 + r.any_exponent(1023 - 52, 1023 - 2, false); }));
+  rows.push_back(measure("log1p", "(0, 1e6]", 1'000'000, 55, ours, glibc,
+                         [](SplitMix64& r) { return 1e6 * (static_cast<double>((r.next() >> 11) + 1) * 0x1p-53); }));
+  rows.push_back(measure("log1p", "all positive finite, every binade incl. subnormal", 1'000'000, 56, ours, glibc,
+                         [](SplitMix64& r) { return r.any_exponent(0, 2046, false); }));
+  std::printf("\n| function | range | count | max ulp vs glibc | differs from glibc | worst x |\n");
+  std::printf("|---|---|---:|---:|---:|---|\n");
+  for (const Row& row : rows)
+    std::printf("| %s | %s | %llu | %llu | %.4f %% | %a |\n", row.function, row.range,
+                static_cast<unsigned long long>(row.count), static_cast<unsigned long long>(row.max_ulp),
+                100.0 * static_cast<double>(row.differing) / static_cast<double>(row.count), row.worst_argument);
+  std::fflush(stdout);
+  for (const Row& row : rows)
+    EXPECT_LE(row.max_ulp, 1u) << row.function << " on " << row.range << ", worst x = " << std::hexfloat
+                               << row.worst_argument;
+}
+
+TEST(pmath, EdgeLog1p) {
+  EXPECT_BITS_EQ(pm::log1p(0.0), 0.0);
+  EXPECT_BITS_EQ(pm::log1p(-0.0), -0.0);
+  EXPECT_BITS_EQ(pm::log1p(-1.0), -kInf);
+  EXPECT_BITS_EQ(pm::log1p(kInf), kInf);
+  EXPECT_EQ(bits_of(pm::log1p(std::nextafter(-1.0, -2.0))), 0x7ff8000000000000ull);
+  EXPECT_EQ(bits_of(pm::log1p(-2.0)), 0x7ff8000000000000ull);
+  EXPECT_EQ(bits_of(pm::log1p(-kInf)), 0x7ff8000000000000ull);
+  EXPECT_EQ(bits_of(pm::log1p(double_of(0x7ff0000000000001ull))), 0x7ff8000000000001ull);
+  EXPECT_EQ(bits_of(pm::log1p(double_of(0xfff8000000000123ull))), 0xfff8000000000123ull);
+  // Tiny arguments: log1p(x) rounds to x below 2^-54, and keeps the sign of zero.
+  for (const double x : {kMinSubnormal, -kMinSubnormal, kMaxSubnormal, DBL_MIN, -DBL_MIN, 0x1p-55, -0x1p-55})
+    EXPECT_BITS_EQ(pm::log1p(x), x);
+  // Where glibc is correctly rounded, so are we; ln 2 exactly rounded.
+  EXPECT_BITS_EQ(pm::log1p(1.0), 0x1.62e42fefa39efp-1);
+  for (const double x : {DBL_MAX, 1e300, 0x1p53, 0x1p-29, -0x1p-29, 0x1p-20, -0.5, -0.25, 0.5, 1e-5, -1e-5,
+                         std::nextafter(-1.0, 0.0), -0.2928932188134524, 0.41421356237309503})
+    EXPECT_ULP_LE(pm::log1p(x), std::log1p(x), 1);
+  // log1p(x) and log(1 + x) where 1 + x is exact.
+  for (const double x : {1.0, 3.0, -0.5, -0.75, 0.25, 1023.0})
+    EXPECT_ULP_LE(pm::log1p(x), pm::log(1.0 + x), 1);
+}
+
 TEST(pmath, EdgeSinCosSpecialValues) {
   EXPECT_BITS_EQ(pm::sin(0.0), 0.0);
   EXPECT_BITS_EQ(pm::sin(-0.0), -0.0);  // sign bit kept

@@ -402,6 +402,86 @@ AXG_HDI double log(double x) {
   return dk * ln2_hi - ((s * (f - R) - dk * ln2_lo) - f);
 }
 
+// log(1 + x), accurate for small |x| too (fdlibm s_log1p.c). log1p(-1) = -inf, log1p(x < -1)
+// = NaN, log1p(+-0) = +-0, log1p(inf) = inf. 1 + x = 2^k (1 + f) with sqrt(2)/2 < 1 + f <
+// sqrt(2), and a correction c for the rounding of 1 + x; then the polynomial of log.
+AXG_HDI double log1p(double x) {
+  constexpr double ln2_hi = 0x1.62e42fee00000p-1;
+  constexpr double ln2_lo = 0x1.a39ef35793c76p-33;
+  constexpr double Lp1 = 0x1.5555555555593p-1;
+  constexpr double Lp2 = 0x1.999999997fa04p-2;
+  constexpr double Lp3 = 0x1.2492494229359p-2;
+  constexpr double Lp4 = 0x1.c71c51d8e78afp-3;
+  constexpr double Lp5 = 0x1.7466496cb03dep-3;
+  constexpr double Lp6 = 0x1.39a09d078c69fp-3;
+  constexpr double Lp7 = 0x1.2f112df3e5244p-3;
+
+  if (detail::is_nan(x)) return detail::quieted(x);
+  const std::int32_t hx = static_cast<std::int32_t>(detail::high_word(x));
+  const std::int32_t ax = hx & 0x7fffffff;
+  int k = 1;
+  double f = 0.0, c = 0.0;
+  std::int32_t hu = 0;
+  if (hx < 0x3FDA827A) {       // 1 + x < sqrt(2)+
+    if (ax >= 0x3ff00000) {    // x <= -1
+      return x == -1.0 ? -detail::infinity() : detail::invalid_nan();
+    }
+    if (ax < 0x3e200000) {     // |x| < 2^-29
+      if (ax < 0x3c900000) return x;  // |x| < 2^-54 (keeps -0)
+      return x - x * x * 0.5;
+    }
+    if (hx > 0 || hx <= static_cast<std::int32_t>(0xbfd2bec4u)) {  // sqrt(2)/2- <= 1 + x < sqrt(2)+
+      k = 0;
+      f = x;
+      hu = 1;
+    }
+  }
+  if (hx >= 0x7ff00000) return x;  // +inf
+  if (k != 0) {
+    double u;
+    if (hx < 0x43400000) {  // x < 2^53: 1 + x is inexact, keep the correction term
+      u = 1.0 + x;
+      hu = static_cast<std::int32_t>(detail::high_word(u));
+      k = (hu >> 20) - 1023;
+      c = k > 0 ? 1.0 - (u - x) : x - (u - 1.0);
+      c /= u;
+    } else {
+      u = x;
+      hu = static_cast<std::int32_t>(detail::high_word(u));
+      k = (hu >> 20) - 1023;
+      c = 0.0;
+    }
+    hu &= 0x000fffff;
+    // The thresholds above are looser than this one, so k == 0 is never reached here
+    // (which would drop the correction term).
+    if (hu < 0x6a09e) {  // u <~ sqrt(2): normalize u
+      u = detail::with_high_word(u, static_cast<std::uint32_t>(hu | 0x3ff00000));
+    } else {             // normalize u / 2
+      k += 1;
+      u = detail::with_high_word(u, static_cast<std::uint32_t>(hu | 0x3fe00000));
+      hu = (0x00100000 - hu) >> 2;
+    }
+    f = u - 1.0;
+  }
+  const double hfsq = 0.5 * f * f;
+  const double dk = k;
+  if (hu == 0) {  // |f| < 2^-20
+    if (f == 0.0) {
+      if (k == 0) return 0.0;
+      c += dk * ln2_lo;
+      return dk * ln2_hi + c;
+    }
+    const double R = hfsq * (1.0 - 0.66666666666666666 * f);
+    if (k == 0) return f - R;
+    return dk * ln2_hi - ((R - (dk * ln2_lo + c)) - f);
+  }
+  const double s = f / (2.0 + f);
+  const double z = s * s;
+  const double R = z * (Lp1 + z * (Lp2 + z * (Lp3 + z * (Lp4 + z * (Lp5 + z * (Lp6 + z * Lp7))))));
+  if (k == 0) return f - (hfsq - s * (hfsq + R));
+  return dk * ln2_hi - ((hfsq - (s * (hfsq + R) + (dk * ln2_lo + c))) - f);
+}
+
 // e^x. Overflows to +inf above 709.78..., goes through the subnormals to +0 below -745.13...
 // x = k ln2 + r with |r| <= ln2/2; e^r = 1 + r + r c(r) / (2 - c(r)) with a rational c.
 AXG_HDI double exp(double x) {

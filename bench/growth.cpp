@@ -33,6 +33,7 @@ struct GrowthRun {
 
 GrowthRun time_steps(const Scene& scene, const Placement& p, const EngineFactory& make) {
   std::unique_ptr<Engine> engine = make ? make(scene, p) : make_reference_engine(scene, p);
+  engine->warm_up();  // as a run does (cues.warmup_steps; none in the benchmark scenes)
   PhaseTimes times;
   GrowthRun r;
   double growing = static_cast<double>(scene.neurons.count);

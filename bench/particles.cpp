@@ -50,6 +50,7 @@ struct Measured {
 Measured measure_particles(const Scene& s, const EngineFactory& make, int measured) {
   const Placement p = place_neurons(s);
   std::unique_ptr<Engine> engine = make ? make(s, p) : make_reference_engine(s, p);
+  engine->warm_up();  // as a run does (cues.warmup_steps; none in the benchmark scenes)
   PhaseTimes times;
   std::uint32_t step = 0;
   const double target = 0.97 * 20 * 4 * s.cues.random_sources.emission;

@@ -168,8 +168,6 @@ TEST(resume, KilledAtRandomTimesResumesToTheSameBytes) {
   s["output"]["checkpoint_every"] = 5;
   Trial t("random times", s);
   const auto& want = t.expected("reference");
-  const auto t0 = std::chrono::steady_clock::now();
-  t.expected("reference");
   std::mt19937 rng(20261202);
   int killed = 0;
   for (int trial = 0; trial < 8; ++trial) {
@@ -190,7 +188,6 @@ TEST(resume, KilledAtRandomTimesResumesToTheSameBytes) {
     ASSERT_EQ(resumed.code, 0) << resumed.err;
     EXPECT_EQ(outputs(out), want) << "trial " << trial;
   }
-  (void)t0;
   EXPECT_GT(killed, 0);  // at least some of them died mid-run
 }
 
@@ -268,6 +265,37 @@ TEST(resume, RefusesAnotherSceneAnotherBuildAndADamagedCheckpoint) {
   EXPECT_EQ(axonguide(fmt::format("run --resume {} --seed 3", out.string()), t.dir()).code, 2);
   EXPECT_EQ(axonguide(fmt::format("run --resume {} --force", out.string()), t.dir()).code, 2);
   EXPECT_EQ(axonguide(fmt::format("run --resume {}/nowhere", t.dir().string()), t.dir()).code, 2);
+}
+
+// The wall-clock interval: with checkpoint_seconds below a step's time every step is
+// checkpointed; with neither setting there is none, and a resume starts from step 0.
+TEST(resume, WallClockCheckpointsAndNone) {
+  json s = base_scene();
+  s["output"].erase("checkpoint_every");
+  s["output"]["checkpoint_seconds"] = 1e-9;
+  Trial t("wall clock", s);
+  const fs::path out = t.dir() / "w";
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", t.scene().string(), out.string()), t.dir(),
+                      "AXG_FAULT_KILL_AT='step 11'")
+                .code,
+            128 + SIGKILL);
+  EXPECT_EQ(read_checkpoint(out / kCheckpointName).step, 10u);
+  Result r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(outputs(out), t.expected("reference"));
+
+  s["output"]["checkpoint_seconds"] = 0;
+  Trial none("no checkpoints", s);
+  const fs::path out2 = none.dir() / "n";
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {}", none.scene().string(), out2.string()), none.dir(),
+                      "AXG_FAULT_KILL_AT='step 20'")
+                .code,
+            128 + SIGKILL);
+  EXPECT_FALSE(fs::exists(out2 / kCheckpointName));
+  r = axonguide(fmt::format("run --resume {}", out2.string()), none.dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("has no checkpoint yet; the run starts again from step 0"), std::string::npos) << r.err;
+  EXPECT_EQ(outputs(out2), none.expected("reference"));
 }
 
 // The canonical scene of a manifest reads back as the same scene (resume depends on it).

@@ -99,7 +99,7 @@ core::CueSample ball_average(const Scene& s, Vec3 x) {
     c += v;
     g += v * y;
   }
-  return {c / m, (5.0 / (r * r * m)) * g};
+  return {c / m, (5.0 / (r * r * m)) * g, {0, 0, 0}};
 }
 
 struct Row {
@@ -121,7 +121,7 @@ std::vector<Row> particle_study(const Options& o) {
     const core::CueSample b = ball_average(ref_scene, {kProbeRadii[r], 0, 0});
     for (int i = 0; i < kProbesPerRadius; ++i) {
       const Vec3 p = pts[r * kProbesPerRadius + static_cast<std::size_t>(i)];
-      ref[r * kProbesPerRadius + static_cast<std::size_t>(i)] = {b.c, (b.grad.x / kProbeRadii[r]) * p};
+      ref[r * kProbesPerRadius + static_cast<std::size_t>(i)] = {b.c, (b.grad.x / kProbeRadii[r]) * p, {0, 0, 0}};
     }
   }
   std::vector<double> emissions{10, 40, 160, 640};

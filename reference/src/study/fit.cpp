@@ -24,14 +24,6 @@ namespace {
 double log_of(double x) { return core::pm::log(x); }
 double exp_of(double x) { return core::pm::exp(x); }
 
-// n points evenly spaced in log between lo and hi (n = 1: their geometric mean).
-std::vector<double> log_grid(double lo, double hi, int n) {
-  std::vector<double> v;
-  const double a = log_of(lo), b = log_of(hi);
-  for (int k = 0; k < n; ++k) v.push_back(n == 1 ? exp_of(0.5 * (a + b)) : exp_of(a + (b - a) * k / (n - 1)));
-  return v;
-}
-
 }  // namespace
 
 std::vector<DataPoint> load_data(const std::string& path) {

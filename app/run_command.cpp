@@ -278,6 +278,17 @@ int cmd_run(const RunArgs& args) {
   options.make_engine = engine_factory(args.backend);
   const int threads = resolve_threads(args.threads);
   if (!resuming) check_memory_estimate(estimate_run_bytes(job.scene), fmt::format("a run of {} neurons", job.scene.neurons.count));
+  // A fresh run that fails before it has anything to resume (placement too dense, out of
+  // memory) takes its running manifest back, and the folder when it made it.
+  struct RemoveIfEmpty {
+    fs::path dir;
+    bool armed = false;
+    ~RemoveIfEmpty() {
+      std::error_code ec;
+      if (armed && fs::is_empty(dir, ec)) fs::remove(dir, ec);
+    }
+  } cleanup{dir, false};
+  const bool made_dir = !fs::exists(dir);
   prepare_output_dir(dir);
   FolderLock lock(dir);
   if (resuming) {
@@ -354,6 +365,14 @@ int cmd_run(const RunArgs& args) {
                  "axonguide run --resume %s\n",
                  StopSignals::name(), stop.step, scene.steps, dir.c_str(), kCheckpointName, dir.c_str());
     return StopSignals::exit_code();
+  } catch (...) {
+    std::error_code ec;
+    if (!resuming && !fs::exists(dir / kCheckpointName, ec)) {
+      remove_run_files(dir, planned_files(scene).get<std::vector<std::string>>());
+      fs::remove(dir / kManifestName, ec);
+      cleanup.armed = made_dir;
+    }
+    throw;
   }
   std::error_code ec;
   fs::remove(dir / kCheckpointName, ec);  // the run is whole: the checkpoint is not needed

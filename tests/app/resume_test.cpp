@@ -408,6 +408,24 @@ TEST(run_folder, ASecondRunIntoTheSameFolderIsRefused) {
   EXPECT_FALSE(fs::exists(out / kLockName));
 }
 
+// A run that fails before it has anything to resume leaves nothing behind: no running
+// manifest, and no folder when it made the folder.
+TEST(run_folder, AFailedRunTakesItsFilesBack) {
+  test::TempDir tmp;
+  const fs::path dense = tmp.path() / "dense.json", out = tmp.path() / "o";
+  std::ofstream(dense) << R"({"neurons": {"count": 5000, "soma_radius": 0.5, "region": {"radius": 5}}})";
+  Result r = axonguide(fmt::format("run {} --out {} -q", dense.string(), out.string()), tmp.path());
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  fs::create_directories(out);
+  std::ofstream(out / "notes.txt") << "mine";
+  r = axonguide(fmt::format("run {} --out {} -q", dense.string(), out.string()), tmp.path());
+  EXPECT_EQ(r.code, 3) << r.err;
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(out)) names.insert(e.path().filename().string());
+  EXPECT_EQ(names, std::set<std::string>{"notes.txt"});
+}
+
 TEST(run_folder, VerifySaysWhyAFolderIsNotWhole) {
   test::TempDir tmp;
   const fs::path out = tmp.path() / "o";

@@ -2,6 +2,7 @@
 // stage, then resumed, writes the bytes of an uninterrupted run; SIGINT and SIGTERM stop
 // it with a checkpoint; a folder holds one run; `verify` tells whole from not.
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -406,6 +407,44 @@ TEST(run_folder, ASecondRunIntoTheSameFolderIsRefused) {
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
   EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0);
   EXPECT_FALSE(fs::exists(out / kLockName));
+}
+
+// Two runs started together into one folder: one writes it, the other is refused (the
+// lock while the first runs, the first's manifest after), and the folder is one run.
+TEST(run_folder, TwoRunsStartedTogetherNeverMix) {
+  test::TempDir tmp;
+  const fs::path a = tmp.path() / "a.json", b = tmp.path() / "b.json";
+  json s = base_scene();
+  s["neurons"]["count"] = 1000;
+  std::ofstream(a) << s.dump();
+  s["seed"] = 7;
+  std::ofstream(b) << s.dump();
+  for (int trial = 0; trial < 10; ++trial) {
+    const fs::path out = tmp.path() / fmt::format("o{}", trial);
+    pid_t pids[2];
+    for (int k = 0; k < 2; ++k) {
+      pids[k] = ::fork();
+      ASSERT_GE(pids[k], 0);
+      if (pids[k] == 0) {
+        const int devnull = ::open("/dev/null", O_WRONLY);
+        ::dup2(devnull, 2);
+        ::execl(test::binary().c_str(), "axonguide", "run", (k ? b : a).c_str(), "--out", out.c_str(), "-q",
+                static_cast<char*>(nullptr));
+        ::_exit(127);
+      }
+    }
+    int codes[2];
+    for (int k = 0; k < 2; ++k) {
+      int status = 0;
+      ::waitpid(pids[k], &status, 0);
+      codes[k] = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    EXPECT_EQ((codes[0] == 0) + (codes[1] == 0), 1) << "trial " << trial << ": exits " << codes[0] << ", " << codes[1];
+    for (int code : codes) EXPECT_TRUE(code == 0 || code == 2 || code == 3) << code;
+    const FolderCheck c = verify_run_folder(out);
+    EXPECT_TRUE(c.whole) << "trial " << trial;
+    EXPECT_EQ(c.manifest["seed"], codes[0] == 0 ? 1 : 7) << "the manifest is the winner's";
+  }
 }
 
 // A run that fails before it has anything to resume leaves nothing behind: no running

@@ -344,20 +344,23 @@ AXG_HDI int rem_pio2(double x, double& y0, double& y1) {
   return n;
 }
 
+// ln 2 split so that k ln2_hi is exact for |k| < 2000, and the coefficients of fdlibm's
+// log(1 + f) = 2s + s R(s^2) (shared by log and log1p; exp uses ln 2 the same way).
+inline constexpr double kLn2Hi = 0x1.62e42fee00000p-1;
+inline constexpr double kLn2Lo = 0x1.a39ef35793c76p-33;
+inline constexpr double kLog1 = 0x1.5555555555593p-1;
+inline constexpr double kLog2 = 0x1.999999997fa04p-2;
+inline constexpr double kLog3 = 0x1.2492494229359p-2;
+inline constexpr double kLog4 = 0x1.c71c51d8e78afp-3;
+inline constexpr double kLog5 = 0x1.7466496cb03dep-3;
+inline constexpr double kLog6 = 0x1.39a09d078c69fp-3;
+inline constexpr double kLog7 = 0x1.2f112df3e5244p-3;
+
 }  // namespace detail
 
 // Natural logarithm. log(+-0) = -inf, log(x < 0) = NaN, log(inf) = inf, log(1) = +0.
 // x = 2^k (1 + f) with sqrt(2)/2 < 1 + f < sqrt(2); log(1 + f) = 2s + s R(s^2), s = f / (2 + f).
 AXG_HDI double log(double x) {
-  constexpr double ln2_hi = 0x1.62e42fee00000p-1;  // k * ln2_hi is exact for |k| < 2000
-  constexpr double ln2_lo = 0x1.a39ef35793c76p-33;
-  constexpr double Lg1 = 0x1.5555555555593p-1;
-  constexpr double Lg2 = 0x1.999999997fa04p-2;
-  constexpr double Lg3 = 0x1.2492494229359p-2;
-  constexpr double Lg4 = 0x1.c71c51d8e78afp-3;
-  constexpr double Lg5 = 0x1.7466496cb03dep-3;
-  constexpr double Lg6 = 0x1.39a09d078c69fp-3;
-  constexpr double Lg7 = 0x1.2f112df3e5244p-3;
 
   if (detail::is_nan(x)) return detail::quieted(x);
   std::int32_t hx = static_cast<std::int32_t>(detail::high_word(x));
@@ -381,40 +384,31 @@ AXG_HDI double log(double x) {
   const double f = x - 1.0;
   const double dk = k;
   if ((0x000fffff & (2 + hx)) < 3) {  // -2^-20 <= f < 2^-20: a short series suffices
-    if (f == 0.0) return k == 0 ? 0.0 : dk * ln2_hi + dk * ln2_lo;
+    if (f == 0.0) return k == 0 ? 0.0 : dk * detail::kLn2Hi + dk * detail::kLn2Lo;
     const double R = f * f * (0.5 - 0.33333333333333333 * f);
-    return k == 0 ? f - R : dk * ln2_hi - ((R - dk * ln2_lo) - f);
+    return k == 0 ? f - R : dk * detail::kLn2Hi - ((R - dk * detail::kLn2Lo) - f);
   }
   const double s = f / (2.0 + f);
   const double z = s * s;
   const double w = z * z;
-  const double t1 = w * (Lg2 + w * (Lg4 + w * Lg6));
-  const double t2 = z * (Lg1 + w * (Lg3 + w * (Lg5 + w * Lg7)));
+  const double t1 = w * (detail::kLog2 + w * (detail::kLog4 + w * detail::kLog6));
+  const double t2 = z * (detail::kLog1 + w * (detail::kLog3 + w * (detail::kLog5 + w * detail::kLog7)));
   const double R = t2 + t1;
   // Near the ends of the interval (|f| >~ 0.28: significand of x in [1.38, 1.42]) f - s (f - R)
   // loses too much; splitting out f^2/2 keeps the error below 1 ulp.
   if (((hx - 0x6147a) | (0x6b851 - hx)) > 0) {
     const double half_f2 = 0.5 * f * f;
     if (k == 0) return f - (half_f2 - s * (half_f2 + R));
-    return dk * ln2_hi - ((half_f2 - (s * (half_f2 + R) + dk * ln2_lo)) - f);
+    return dk * detail::kLn2Hi - ((half_f2 - (s * (half_f2 + R) + dk * detail::kLn2Lo)) - f);
   }
   if (k == 0) return f - s * (f - R);
-  return dk * ln2_hi - ((s * (f - R) - dk * ln2_lo) - f);
+  return dk * detail::kLn2Hi - ((s * (f - R) - dk * detail::kLn2Lo) - f);
 }
 
 // log(1 + x), accurate for small |x| too (fdlibm s_log1p.c). log1p(-1) = -inf, log1p(x < -1)
 // = NaN, log1p(+-0) = +-0, log1p(inf) = inf. 1 + x = 2^k (1 + f) with sqrt(2)/2 < 1 + f <
 // sqrt(2), and a correction c for the rounding of 1 + x; then the polynomial of log.
 AXG_HDI double log1p(double x) {
-  constexpr double ln2_hi = 0x1.62e42fee00000p-1;
-  constexpr double ln2_lo = 0x1.a39ef35793c76p-33;
-  constexpr double Lp1 = 0x1.5555555555593p-1;
-  constexpr double Lp2 = 0x1.999999997fa04p-2;
-  constexpr double Lp3 = 0x1.2492494229359p-2;
-  constexpr double Lp4 = 0x1.c71c51d8e78afp-3;
-  constexpr double Lp5 = 0x1.7466496cb03dep-3;
-  constexpr double Lp6 = 0x1.39a09d078c69fp-3;
-  constexpr double Lp7 = 0x1.2f112df3e5244p-3;
 
   if (detail::is_nan(x)) return detail::quieted(x);
   const std::int32_t hx = static_cast<std::int32_t>(detail::high_word(x));
@@ -468,18 +462,19 @@ AXG_HDI double log1p(double x) {
   if (hu == 0) {  // |f| < 2^-20
     if (f == 0.0) {
       if (k == 0) return 0.0;
-      c += dk * ln2_lo;
-      return dk * ln2_hi + c;
+      c += dk * detail::kLn2Lo;
+      return dk * detail::kLn2Hi + c;
     }
     const double R = hfsq * (1.0 - 0.66666666666666666 * f);
     if (k == 0) return f - R;
-    return dk * ln2_hi - ((R - (dk * ln2_lo + c)) - f);
+    return dk * detail::kLn2Hi - ((R - (dk * detail::kLn2Lo + c)) - f);
   }
   const double s = f / (2.0 + f);
   const double z = s * s;
-  const double R = z * (Lp1 + z * (Lp2 + z * (Lp3 + z * (Lp4 + z * (Lp5 + z * (Lp6 + z * Lp7))))));
+  using namespace detail;
+  const double R = z * (kLog1 + z * (kLog2 + z * (kLog3 + z * (kLog4 + z * (kLog5 + z * (kLog6 + z * kLog7))))));
   if (k == 0) return f - (hfsq - s * (hfsq + R));
-  return dk * ln2_hi - ((hfsq - (s * (hfsq + R) + (dk * ln2_lo + c))) - f);
+  return dk * detail::kLn2Hi - ((hfsq - (s * (hfsq + R) + (dk * detail::kLn2Lo + c))) - f);
 }
 
 // e^x. Overflows to +inf above 709.78..., goes through the subnormals to +0 below -745.13...
@@ -487,8 +482,6 @@ AXG_HDI double log1p(double x) {
 AXG_HDI double exp(double x) {
   constexpr double overflow_threshold = 0x1.62e42fefa39efp+9;    // 709.78...
   constexpr double underflow_threshold = -0x1.74910d52d3051p+9;  // -745.13...
-  constexpr double ln2_hi = 0x1.62e42fee00000p-1;
-  constexpr double ln2_lo = 0x1.a39ef35793c76p-33;
   constexpr double inv_ln2 = 0x1.71547652b82fep+0;
   constexpr double P1 = 0x1.555555555553ep-3;
   constexpr double P2 = -0x1.6c16c16bebd93p-9;
@@ -513,14 +506,14 @@ AXG_HDI double exp(double x) {
   int k = 0;
   if (hx > 0x3fd62e42) {     // |x| > ln2/2: reduce
     if (hx < 0x3FF0A2B2) {   // |x| < 1.5 ln2: k = +-1
-      hi = negative ? x + ln2_hi : x - ln2_hi;
-      lo = negative ? -ln2_lo : ln2_lo;
+      hi = negative ? x + detail::kLn2Hi : x - detail::kLn2Hi;
+      lo = negative ? -detail::kLn2Lo : detail::kLn2Lo;
       k = negative ? -1 : 1;
     } else {
       k = static_cast<int>(inv_ln2 * x + (negative ? -0.5 : 0.5));
       const double t = k;
-      hi = x - t * ln2_hi;  // exact: t * ln2_hi has few enough bits
-      lo = t * ln2_lo;
+      hi = x - t * detail::kLn2Hi;  // exact: t * detail::kLn2Hi has few enough bits
+      lo = t * detail::kLn2Lo;
     }
     x = hi - lo;
   } else if (hx < 0x3e300000) {  // |x| < 2^-28: e^x rounds to 1 + x

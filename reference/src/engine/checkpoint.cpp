@@ -62,6 +62,12 @@ class Writer {
     pod<std::uint64_t>(s.size());
     bytes(s.data(), s.size());
   }
+  // A counted list; `fields` writes one element (min_bytes is the reader's bound).
+  template <class T, class Fields>
+  void list(const std::vector<T>& v, std::size_t /*min_bytes*/, Fields fields) {
+    pod<std::uint64_t>(v.size());
+    for (const T& x : v) fields(*this, x);
+  }
   std::uint64_t finish() {
     const std::string h = hash_.hex();
     f_.write(h);
@@ -97,6 +103,10 @@ class Reader {
     return v;
   }
   template <class T>
+  void pod(T& v) {
+    bytes(&v, sizeof v);
+  }
+  template <class T>
   void array(std::vector<T>& v) {
     const auto n = pod<std::uint64_t>();
     if (n > left_ / sizeof(T)) bad("an array longer than the file");
@@ -105,11 +115,22 @@ class Reader {
   }
   std::string text() {
     std::string s;
+    text(s);
+    return s;
+  }
+  void text(std::string& s) {
     const auto n = pod<std::uint64_t>();
     if (n > left_) bad("a string longer than the file");
     s.resize(n);
     bytes(s.data(), n);
-    return s;
+  }
+  // A counted list of elements of at least min_bytes each; `fields` reads one element.
+  template <class T, class Fields>
+  void list(std::vector<T>& v, std::size_t min_bytes, Fields fields) {
+    const auto n = pod<std::uint64_t>();
+    if (n > left_ / min_bytes) bad("a list longer than the file");
+    v.resize(n);
+    for (T& x : v) fields(*this, x);
   }
   void finish() {
     if (left_ != 0) bad("bytes after its last field");
@@ -128,6 +149,49 @@ class Reader {
   std::uint64_t left_ = 0;
 };
 
+// What follows the header, listed once for the writer and the reader (Run and State are
+// const when writing).
+template <class Io, class Run, class State>
+void contents(Io& io, Run& r, State& e) {
+  io.array(r.soma);
+  io.pod(r.placement_redraws);
+  io.list(r.stats, 36, [](auto& f, auto& s) {
+    f.pod(s.step);
+    f.pod(s.growing);
+    f.pod(s.connected);
+    f.pod(s.exited);
+    f.pod(s.particles);
+  });
+  io.list(r.paths, 8, [](auto& f, auto& p) { f.array(p); });
+  io.list(r.frames, 32, [](auto& f, auto& fr) {
+    f.pod(fr.step);
+    f.pod(fr.count);
+    f.pod(fr.stride);
+    f.array(fr.pos);
+    f.array(fr.cue);
+  });
+  io.list(r.times.rows(), 20, [](auto& f, auto& row) {
+    f.pod(row.step);
+    f.text(row.phase);
+    f.pod(row.seconds);
+  });
+  io.array(e.axons.tip);
+  io.array(e.axons.length);
+  io.array(e.axons.status);
+  io.array(e.axons.steps);
+  io.array(e.axons.target);
+  io.array(e.heading);
+  io.array(e.step_length);
+  io.pod(e.connected);
+  io.pod(e.exited);
+  io.pod(e.next_particle_id);
+  io.array(e.particle_pos);
+  io.array(e.particle_vel);
+  io.array(e.particle_id);
+  io.array(e.particle_cue);
+  io.array(e.grid);
+}
+
 }  // namespace
 
 std::uint64_t write_checkpoint(const fs::path& dir, const RunResult& r, std::uint32_t step, const EngineState& e) {
@@ -139,49 +203,7 @@ std::uint64_t write_checkpoint(const fs::path& dir, const RunResult& r, std::uin
   w.text(kCommit);
   w.text(scene_hash(r.scene));
   w.pod(step);
-  // What the run has recorded.
-  w.array(r.soma);
-  w.pod(r.placement_redraws);
-  w.pod<std::uint64_t>(r.stats.size());
-  for (const StepStats& s : r.stats) {
-    w.pod(s.step);
-    w.pod(s.growing);
-    w.pod(s.connected);
-    w.pod(s.exited);
-    w.pod(s.particles);
-  }
-  w.pod<std::uint64_t>(r.paths.size());
-  for (const auto& p : r.paths) w.array(p);
-  w.pod<std::uint64_t>(r.frames.size());
-  for (const ParticleFrame& fr : r.frames) {
-    w.pod(fr.step);
-    w.pod(fr.count);
-    w.pod(fr.stride);
-    w.array(fr.pos);
-    w.array(fr.cue);
-  }
-  w.pod<std::uint64_t>(r.times.rows().size());
-  for (const auto& row : r.times.rows()) {
-    w.pod(row.step);
-    w.text(row.phase);
-    w.pod(row.seconds);
-  }
-  // The engine.
-  w.array(e.axons.tip);
-  w.array(e.axons.length);
-  w.array(e.axons.status);
-  w.array(e.axons.steps);
-  w.array(e.axons.target);
-  w.array(e.heading);
-  w.array(e.step_length);
-  w.pod(e.connected);
-  w.pod(e.exited);
-  w.pod(e.next_particle_id);
-  w.array(e.particle_pos);
-  w.array(e.particle_vel);
-  w.array(e.particle_id);
-  w.array(e.particle_cue);
-  w.array(e.grid);
+  contents(w, r, e);
   const std::uint64_t size = w.finish();
   fault_point(fmt::format("checkpoint {}", step));
   f.commit();
@@ -201,56 +223,10 @@ RunCheckpoint read_checkpoint(const fs::path& path) {
   c.step = in.pod<std::uint32_t>();
   RunResult& r = c.progress;
   r.steps_run = c.step;
-  in.array(r.soma);
-  r.placement_redraws = in.pod<std::uint64_t>();
-  const auto stats = in.pod<std::uint64_t>();
-  if (stats > (std::uint64_t{1} << 33)) in.bad("an impossible number of steps");
-  for (std::uint64_t k = 0; k < stats; ++k) {
-    StepStats s;
-    s.step = in.pod<std::uint32_t>();
-    s.growing = in.pod<std::uint64_t>();
-    s.connected = in.pod<std::uint64_t>();
-    s.exited = in.pod<std::uint64_t>();
-    s.particles = in.pod<std::uint64_t>();
-    r.stats.push_back(s);
-  }
-  const auto paths = in.pod<std::uint64_t>();
-  if (paths > stats) in.bad("more path rows than steps");
-  r.paths.resize(paths);
-  for (auto& p : r.paths) in.array(p);
-  const auto frames = in.pod<std::uint64_t>();
-  if (frames > stats) in.bad("more particle frames than steps");
-  r.frames.resize(frames);
-  for (ParticleFrame& fr : r.frames) {
-    fr.step = in.pod<std::uint32_t>();
-    fr.count = in.pod<std::uint64_t>();
-    fr.stride = in.pod<std::uint32_t>();
-    in.array(fr.pos);
-    in.array(fr.cue);
-  }
-  const auto rows = in.pod<std::uint64_t>();
-  for (std::uint64_t k = 0; k < rows; ++k) {
-    const auto step = in.pod<std::uint32_t>();
-    const std::string phase = in.text();
-    const auto seconds = in.pod<double>();
-    r.times.rows().push_back({step, phase, seconds});
-  }
   EngineState& e = c.engine;
-  in.array(e.axons.tip);
-  in.array(e.axons.length);
-  in.array(e.axons.status);
-  in.array(e.axons.steps);
-  in.array(e.axons.target);
-  in.array(e.heading);
-  in.array(e.step_length);
-  e.connected = in.pod<std::uint64_t>();
-  e.exited = in.pod<std::uint64_t>();
-  e.next_particle_id = in.pod<std::uint64_t>();
-  in.array(e.particle_pos);
-  in.array(e.particle_vel);
-  in.array(e.particle_id);
-  in.array(e.particle_cue);
-  in.array(e.grid);
+  contents(in, r, e);
+  if (r.paths.size() > r.stats.size()) in.bad("more path rows than steps");
+  if (r.frames.size() > r.stats.size()) in.bad("more particle frames than steps");
   in.finish();
   const std::size_t n = r.soma.size();
   if (e.axons.tip.size() != n || e.axons.length.size() != n || e.axons.status.size() != n ||

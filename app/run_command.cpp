@@ -175,34 +175,20 @@ class StopSignals {
   struct sigaction old_int_ {}, old_term_ {};
 };
 
-// The files a run of this scene writes (a running manifest lists them, so that --force
-// can remove what a killed run left).
-json planned_files(const Scene& s) {
-  json names = {"neurons.csv", "connections.csv", "stats.csv", "graph.graphml", "timings.csv"};
-  if (!s.analysis.bfs_sources.empty() || s.analysis.components) names.push_back("bfs.csv");
-  if (s.output.paths) names.push_back("paths.csv");
-  if (s.uses_cues()) names.push_back("sources.csv");
-  if ((s.output.paths || s.output.vtk) && s.uses_cues() && s.cues.field == FieldKind::kParticles)
-    names.push_back("particles.csv");
-  if (s.output.vtk) {
-    names.push_back("growth.pvd");
-    names.push_back("vtk/*.vtp");
-  }
-  return names;
-}
-
 struct Job {
   Scene scene;
   std::vector<std::string> warnings;
   std::string origin;
   std::optional<RunCheckpoint> checkpoint;
+  json manifest;  // a resume's: the unfinished run's manifest
 };
 
 // `run --resume DIR`: the scene, warnings and checkpoint of the unfinished run in DIR.
 Job resume_job(const RunArgs& args, const fs::path& dir) {
-  const json m = read_manifest(dir);
-  const std::string status = m.value("status", std::string("complete"));
   Job job;
+  job.manifest = read_manifest(dir);
+  const json& m = job.manifest;
+  const std::string status = m.value("status", std::string("complete"));
   job.origin = fmt::format("resumed from {}", dir.string());
   const json& by = m.contains("axonguide") ? m["axonguide"] : json::object();
   if (by.value("version", std::string()) != kVersion || by.value("commit", std::string()) != kCommit)
@@ -315,7 +301,7 @@ int cmd_run(const RunArgs& args) {
   const Scene& scene = job.scene;
   json running = manifest_header(scene, args.backend, threads, job.warnings);
   running["status"] = "running";
-  running["planned"] = planned_files(scene);
+  running["planned"] = planned_outputs(scene);
   // An old checkpoint goes before anything else: it must never be taken for this run's.
   std::vector<std::string> replacing;
   for (const auto& name : claim.replacing)
@@ -325,8 +311,8 @@ int cmd_run(const RunArgs& args) {
   running["files"] = json::object();
   if (resuming) {
     // What the killed run was replacing, if it was killed before it had removed it all.
-    const json m = read_manifest(dir);
-    running = m;
+    running = job.manifest;
+    const json& m = running;
     std::vector<std::string> left;
     if (m.contains("replacing") && m["replacing"].is_array())
       for (const auto& name : m["replacing"])
@@ -368,7 +354,7 @@ int cmd_run(const RunArgs& args) {
   } catch (...) {
     std::error_code ec;
     if (!resuming && !fs::exists(dir / kCheckpointName, ec)) {
-      remove_run_files(dir, planned_files(scene).get<std::vector<std::string>>());
+      remove_run_files(dir, planned_outputs(scene));
       fs::remove(dir / kManifestName, ec);
       cleanup.armed = made_dir;
     }

@@ -90,6 +90,11 @@ OutputInfo write_outputs(const RunResult& result, const std::filesystem::path& d
                          const std::string& backend_name, int threads,
                          const std::vector<std::string>& warnings);
 
+// The files write_outputs writes for this scene, relative to the folder ("vtk/*.vtp" for
+// the VTK frames); a cue scene without sources has no sources.csv. A running manifest
+// lists them, so that --force can remove what a killed run left.
+std::vector<std::string> planned_outputs(const Scene& scene);
+
 // The bytes of connections.csv (sweeps hash them without writing the file).
 std::string connections_csv(const RunResult& result);
 

@@ -99,7 +99,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     fault_point("placement");
   }
   r.scene = scene;
-  r.placement_redraws = resume ? r.placement_redraws : placement.redraws;
+  if (!resume) r.placement_redraws = placement.redraws;
   std::unique_ptr<Engine> engine;
   {
     ScopedPhase p(r.times, 0, resume ? "resume" : "setup");

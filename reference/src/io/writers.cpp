@@ -160,6 +160,20 @@ void write_timings(const RunResult& r, AtomicFile& f) {
 
 }  // namespace
 
+std::vector<std::string> planned_outputs(const Scene& s) {
+  std::vector<std::string> names = {"neurons.csv", "connections.csv", "stats.csv", "graph.graphml", "timings.csv"};
+  if (!s.analysis.bfs_sources.empty() || s.analysis.components) names.push_back("bfs.csv");
+  if (s.output.paths) names.push_back("paths.csv");
+  if (s.uses_cues()) names.push_back("sources.csv");
+  if ((s.output.paths || s.output.vtk) && s.uses_cues() && s.cues.field == FieldKind::kParticles)
+    names.push_back("particles.csv");
+  if (s.output.vtk) {
+    names.push_back("growth.pvd");
+    names.push_back("vtk/*.vtp");
+  }
+  return names;
+}
+
 std::string connections_csv(const RunResult& r) {
   StringSink sink;
   write_connections_to(r, sink);

@@ -1,0 +1,365 @@
+// SONATA output (docs/methods.md §7.2) through the HDF5 C API. Each HDF5 file is built in
+// memory (the core driver, no backing store) and its image written through AtomicFile,
+// so it appears under its name only when whole and is hashed as it is written.
+//
+// Byte determinism: every group and dataset is created with object time tracking off,
+// the format is pinned (libver bounds earliest..1.8: superblock 0, version-1 object
+// headers, symbol-table groups, whose links are kept sorted by name), the layout is
+// contiguous without filters, and the calls are the same for a given run whatever the
+// thread count. Strings are fixed-length, so nothing goes to a global heap.
+#include "axonguide/sonata.hpp"
+
+#include <hdf5.h>
+
+#include <array>
+#include <cstdint>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "axonguide/canonical_nan.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
+
+namespace axg {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kNodePopulation = "axonguide";
+constexpr const char* kEdgePopulation = "axonguide_to_axonguide";
+// SONATA's root attributes: the spec version the file follows, and its magic number.
+constexpr std::uint32_t kSonataVersion[2] = {0, 1};
+constexpr std::uint32_t kSonataMagic = 0x0A7A;
+// The status enumeration's names, in core::AxonStatus order (name_of).
+constexpr std::array<const char*, 4> kStatusNames = {"growing", "connected", "exited", "max_steps"};
+
+[[noreturn]] void fail(const char* what) { throw RunError(fmt::format("SONATA output: HDF5 {} failed", what)); }
+
+void ok(herr_t status, const char* what) {
+  if (status < 0) fail(what);
+}
+
+// One HDF5 identifier, closed by its own close function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t), const char* what) : id_(id), close_(close) {
+    if (id_ < 0) fail(what);
+  }
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle& operator=(Handle&&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+Handle property_list(hid_t cls) { return Handle(H5Pcreate(cls), H5Pclose, "H5Pcreate"); }
+
+// File and memory types of the element types written.
+template <class T>
+struct H5Of;
+template <>
+struct H5Of<std::uint8_t> {
+  static hid_t file() { return H5T_STD_U8LE; }
+  static hid_t mem() { return H5T_NATIVE_UINT8; }
+};
+template <>
+struct H5Of<std::uint32_t> {
+  static hid_t file() { return H5T_STD_U32LE; }
+  static hid_t mem() { return H5T_NATIVE_UINT32; }
+};
+template <>
+struct H5Of<std::int32_t> {
+  static hid_t file() { return H5T_STD_I32LE; }
+  static hid_t mem() { return H5T_NATIVE_INT32; }
+};
+template <>
+struct H5Of<std::uint64_t> {
+  static hid_t file() { return H5T_STD_U64LE; }
+  static hid_t mem() { return H5T_NATIVE_UINT64; }
+};
+template <>
+struct H5Of<double> {
+  static hid_t file() { return H5T_IEEE_F64LE; }
+  static hid_t mem() { return H5T_NATIVE_DOUBLE; }
+};
+
+// A fixed-length, null-padded UTF-8 string type of `size` bytes.
+Handle string_type(std::size_t size) {
+  Handle t(H5Tcopy(H5T_C_S1), H5Tclose, "H5Tcopy");
+  ok(H5Tset_size(t, size == 0 ? 1 : size), "H5Tset_size");
+  ok(H5Tset_strpad(t, H5T_STR_NULLPAD), "H5Tset_strpad");
+  ok(H5Tset_cset(t, H5T_CSET_UTF8), "H5Tset_cset");
+  return t;
+}
+
+void string_attribute(hid_t object, const char* name, const std::string& value) {
+  Handle type = string_type(value.size());
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "H5Screate");
+  Handle attr(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, "H5Acreate2");
+  std::string padded = value;
+  padded.resize(value.empty() ? 1 : value.size(), '\0');
+  ok(H5Awrite(attr, type, padded.data()), "H5Awrite");
+}
+
+template <class T>
+void scalar_attribute(hid_t object, const char* name, const T* values, hsize_t count) {
+  Handle space(count == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &count, nullptr), H5Sclose, "H5Screate");
+  Handle attr(H5Acreate2(object, name, H5Of<T>::file(), space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+              "H5Acreate2");
+  ok(H5Awrite(attr, H5Of<T>::mem(), values), "H5Awrite");
+}
+
+Handle group(hid_t parent, const char* name) {
+  Handle gcpl = property_list(H5P_GROUP_CREATE);
+  ok(H5Pset_obj_track_times(gcpl, 0), "H5Pset_obj_track_times");
+  return Handle(H5Gcreate2(parent, name, H5P_DEFAULT, gcpl, H5P_DEFAULT), H5Gclose, "H5Gcreate2");
+}
+
+// A contiguous dataset of `dims` elements from `data` (row-major), never pre-filled.
+Handle dataset(hid_t parent, const char* name, hid_t file_type, hid_t mem_type, const void* data,
+               std::initializer_list<hsize_t> dims) {
+  const std::vector<hsize_t> d(dims);
+  Handle space(H5Screate_simple(static_cast<int>(d.size()), d.data(), nullptr), H5Sclose, "H5Screate_simple");
+  Handle dcpl = property_list(H5P_DATASET_CREATE);
+  ok(H5Pset_obj_track_times(dcpl, 0), "H5Pset_obj_track_times");
+  ok(H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER), "H5Pset_fill_time");
+  Handle set(H5Dcreate2(parent, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose, "H5Dcreate2");
+  hsize_t total = 1;
+  for (hsize_t x : d) total *= x;
+  if (total > 0) ok(H5Dwrite(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "H5Dwrite");
+  return set;
+}
+
+template <class T>
+Handle column(hid_t parent, const char* name, const std::vector<T>& values, const char* units = nullptr) {
+  Handle set = dataset(parent, name, H5Of<T>::file(), H5Of<T>::mem(), values.data(), {values.size()});
+  if (units) string_attribute(set, "units", units);
+  return set;
+}
+
+void strings(hid_t parent, const char* name, const std::vector<std::string>& values) {
+  std::size_t width = 1;
+  for (const auto& s : values) width = std::max(width, s.size());
+  std::string packed(width * values.size(), '\0');
+  for (std::size_t k = 0; k < values.size(); ++k) packed.replace(k * width, values[k].size(), values[k]);
+  Handle type = string_type(width);
+  dataset(parent, name, type, type, packed.data(), {values.size()});
+}
+
+// An HDF5 file held in memory; image() returns its bytes.
+class MemoryFile {
+ public:
+  MemoryFile() : fapl_(property_list(H5P_FILE_ACCESS)), fcpl_(property_list(H5P_FILE_CREATE)), file_(create()) {
+    scalar_attribute(file_, "version", kSonataVersion, 2);
+    scalar_attribute(file_, "magic", &kSonataMagic, 1);
+  }
+  operator hid_t() const { return file_; }
+
+  std::string image() {
+    ok(H5Fflush(file_, H5F_SCOPE_GLOBAL), "H5Fflush");
+    const ssize_t size = H5Fget_file_image(file_, nullptr, 0);
+    if (size < 0) fail("H5Fget_file_image");
+    std::string bytes(static_cast<std::size_t>(size), '\0');
+    if (H5Fget_file_image(file_, bytes.data(), bytes.size()) != size) fail("H5Fget_file_image");
+    return bytes;
+  }
+
+ private:
+  Handle fapl_, fcpl_, file_;
+
+  Handle create() {
+    // Core driver without a backing store: the name is never created on disk.
+    ok(H5Pset_fapl_core(fapl_, std::size_t{16} << 20, 0), "H5Pset_fapl_core");
+    ok(H5Pset_libver_bounds(fapl_, H5F_LIBVER_EARLIEST, H5F_LIBVER_V18), "H5Pset_libver_bounds");
+    ok(H5Pset_obj_track_times(fcpl_, 0), "H5Pset_obj_track_times");  // the root group
+    return Handle(H5Fcreate("axonguide-sonata-image.h5", H5F_ACC_TRUNC, fcpl_, fapl_), H5Fclose, "H5Fcreate");
+  }
+};
+
+std::vector<std::uint64_t> iota64(std::size_t n) {
+  std::vector<std::uint64_t> v(n);
+  std::iota(v.begin(), v.end(), std::uint64_t{0});
+  return v;
+}
+
+// Micrometres per length unit of the scene: 40 µm per LU (kMicrometresPerLu), 1 for "um".
+double micrometres_per_unit(const Scene& s) { return s.units.length == "um" ? 1.0 : kMicrometresPerLu; }
+
+std::string nodes_image(const RunResult& r) {
+  const std::size_t n = r.neurons.size();
+  const double um = micrometres_per_unit(r.scene);
+  MemoryFile f;
+  Handle nodes = group(f, "nodes");
+  Handle pop = group(nodes, kNodePopulation);
+  {
+    const std::vector<std::uint64_t> ids = iota64(n);
+    column(pop, "node_id", ids);
+    column(pop, "node_group_index", ids);
+    const std::vector<std::uint32_t> zeros(n, 0);
+    column(pop, "node_type_id", zeros);
+    column(pop, "node_group_id", zeros);
+  }
+  Handle g0 = group(pop, "0");
+  {
+    std::vector<double> v(n);
+    constexpr double core::Vec3::*kAxes[] = {&core::Vec3::x, &core::Vec3::y, &core::Vec3::z};
+    constexpr const char* kNames[] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+      for (std::size_t i = 0; i < n; ++i) v[i] = canonical(r.soma[i].*kAxes[a] * um);
+      column(g0, kNames[a], v, "um");
+    }
+    v.assign(n, canonical(r.scene.neurons.soma_radius * um));
+    column(g0, "soma_radius", v, "um");
+    for (std::size_t i = 0; i < n; ++i) v[i] = canonical(r.neurons.length[i] * um);
+    column(g0, "axon_length", v, "um");
+  }
+  {
+    std::vector<std::uint8_t> status(n);
+    for (std::size_t i = 0; i < n; ++i) status[i] = static_cast<std::uint8_t>(r.neurons.status[i]);
+    column(g0, "status", status);
+  }
+  column(g0, "steps", r.neurons.steps);
+  if (r.graph.bfs) column(g0, "bfs_level", r.graph.bfs->level);
+  if (!r.graph.component.empty()) column(g0, "component", r.graph.component);
+  {
+    Handle library = group(g0, "@library");
+    strings(library, "status", std::vector<std::string>(kStatusNames.begin(), kStatusNames.end()));
+  }
+  return f.image();
+}
+
+using Ranges = std::vector<std::array<std::uint64_t, 2>>;
+
+// indices/<name>: the edges of each node as libsonata's index writer lays them out
+// (edge_index.cpp): range_to_edge_id holds the maximal runs of equal node id in edge order,
+// grouped by node (ascending) and in edge order within a node; node_id_to_ranges[v] is the
+// half-open row range of v's runs, empty ([k, k]) for a node without edges.
+void edge_index(hid_t indices, const char* name, const std::vector<std::uint32_t>& node_of_edge, std::size_t nodes) {
+  Ranges runs;
+  std::vector<std::uint32_t> run_node;
+  for (std::size_t e = 0; e < node_of_edge.size(); ++e) {
+    if (e == 0 || node_of_edge[e] != node_of_edge[e - 1]) {
+      runs.push_back({e, e + 1});
+      run_node.push_back(node_of_edge[e]);
+    } else {
+      runs.back()[1] = e + 1;
+    }
+  }
+  Ranges node_ranges(nodes, {0, 0});
+  std::vector<std::uint64_t> start(nodes + 1, 0);
+  for (std::uint32_t v : run_node) ++start[v + 1];
+  for (std::size_t v = 0; v < nodes; ++v) {
+    start[v + 1] += start[v];
+    node_ranges[v] = {start[v], start[v + 1]};
+  }
+  Ranges range_to_edge(runs.size());
+  for (std::size_t k = 0; k < runs.size(); ++k) range_to_edge[start[run_node[k]]++] = runs[k];
+  Handle g = group(indices, name);
+  dataset(g, "node_id_to_ranges", H5T_STD_U64LE, H5T_NATIVE_UINT64, node_ranges.data(), {node_ranges.size(), 2});
+  dataset(g, "range_to_edge_id", H5T_STD_U64LE, H5T_NATIVE_UINT64, range_to_edge.data(), {range_to_edge.size(), 2});
+}
+
+std::string edges_image(const RunResult& r) {
+  const auto& nr = r.neurons;
+  const double um = micrometres_per_unit(r.scene);
+  const double speed = r.scene.output.conduction_m_per_s();  // m/s = mm/ms = 1000 µm/ms
+  std::vector<std::uint32_t> source, target;
+  for (std::size_t i = 0; i < nr.size(); ++i)
+    if (nr.target[i] != core::kNoNeuron) {
+      source.push_back(static_cast<std::uint32_t>(i));
+      target.push_back(nr.target[i]);
+    }
+  const std::size_t m = source.size();
+  MemoryFile f;
+  Handle edges = group(f, "edges");
+  Handle pop = group(edges, kEdgePopulation);
+  for (const auto& [name, ids] : {std::pair{"source_node_id", &source}, std::pair{"target_node_id", &target}}) {
+    const std::vector<std::uint64_t> wide(ids->begin(), ids->end());
+    Handle set = column(pop, name, wide);
+    string_attribute(set, "node_population", kNodePopulation);
+  }
+  {
+    const std::vector<std::uint32_t> zeros(m, 0);
+    column(pop, "edge_type_id", zeros);
+    column(pop, "edge_group_id", zeros);
+    column(pop, "edge_group_index", iota64(m));
+  }
+  Handle g0 = group(pop, "0");
+  {
+    std::vector<std::uint32_t> step(m);
+    for (std::size_t e = 0; e < m; ++e) step[e] = nr.steps[source[e]];
+    column(g0, "step", step);
+  }
+  std::vector<double> length(m), delay(m);
+  for (std::size_t e = 0; e < m; ++e) {
+    length[e] = canonical(nr.length[source[e]] * um);
+    delay[e] = canonical(length[e] / (speed * 1000.0));
+  }
+  column(g0, "length", length, "um");
+  {
+    Handle set = column(g0, "delay", delay, "ms");
+    scalar_attribute(set, "conduction_speed", &speed, 1);
+    string_attribute(set, "conduction_speed_units", "m/s");
+  }
+  {
+    // The same delays where PyNN's importer looks for per-edge synapse parameters: a
+    // second (hard) link to the one dataset, not a copy.
+    Handle dynamics = group(g0, "dynamics_params");
+    ok(H5Lcreate_hard(g0, "delay", dynamics, "delay", H5P_DEFAULT, H5P_DEFAULT), "H5Lcreate_hard");
+  }
+  Handle indices = group(pop, "indices");
+  edge_index(indices, "source_to_target", source, nr.size());
+  edge_index(indices, "target_to_source", target, nr.size());
+  return f.image();
+}
+
+// SONATA's CSV dialect: space-separated, a header row, UNIX line ends.
+constexpr const char* kNodeTypes =
+    "node_type_id population model_type model_template\n"
+    "0 axonguide point_neuron pyNN:IF_cond_exp\n";
+constexpr const char* kEdgeTypes =
+    "edge_type_id population model_template receptor_type\n"
+    "0 axonguide_to_axonguide pyNN:StaticSynapse excitatory\n";
+
+std::string circuit_config() {
+  // Paths relative to the folder that holds this file, so that the run folder can move.
+  const nlohmann::json j = {
+      {"manifest", {{"$BASE_DIR", "."}}},
+      {"target_simulator", "PyNN"},
+      {"components", nlohmann::json::object()},
+      {"networks",
+       {{"nodes", {{{"nodes_file", "$BASE_DIR/nodes.h5"}, {"node_types_file", "$BASE_DIR/node_types.csv"}}}},
+        {"edges", {{{"edges_file", "$BASE_DIR/edges.h5"}, {"edge_types_file", "$BASE_DIR/edge_types.csv"}}}}}}};
+  return j.dump(2) + "\n";
+}
+
+}  // namespace
+
+void write_sonata(const RunResult& r, const fs::path& dir, OutputInfo& info) {
+  const fs::path net = dir / "network";
+  std::error_code ec;
+  fs::create_directories(net, ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", net.string(), ec.message()));
+  auto emit = [&](const char* name, const std::string& bytes) {
+    info.files.emplace_back(std::string("network/") + name, write_file_atomically(net, name, bytes));
+  };
+  emit("nodes.h5", nodes_image(r));
+  emit("edges.h5", edges_image(r));
+  emit("node_types.csv", kNodeTypes);
+  emit("edge_types.csv", kEdgeTypes);
+  emit("circuit_config.json", circuit_config());
+}
+
+}  // namespace axg

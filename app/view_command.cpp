@@ -13,10 +13,12 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/error.hpp"
+#include "axonguide/resources.hpp"
 #include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run_folder.hpp"
 #include "axonguide/validate/report.hpp"
+#include "assets.hpp"
 #include "commands.hpp"
 
 namespace axg::app {
@@ -29,11 +31,6 @@ namespace {
 // Above these, the page is thinned (and says so): it must stay loadable and smooth.
 constexpr std::size_t kMaxPathPoints = 1000000;
 constexpr std::size_t kMaxFrameParticles = 200000;
-
-fs::path asset_dir(const char* env, const fs::path& fallback) {
-  const char* e = std::getenv(env);
-  return e && *e ? fs::path(e) : fallback;
-}
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -107,16 +104,46 @@ bool load_csv(const fs::path& p, Csv& out) {
 
 double num(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
 
+// The viewer's files: the ones compiled into the command, or those in AXG_VIEWER_DIR (and
+// three.js in AXG_THREE_DIR) when set, for working on the page without rebuilding.
+struct ViewerFiles {
+  std::string page, css, view_js, three_module, three_core, orbit;
+};
+
+ViewerFiles viewer_files() {
+  ViewerFiles v;
+  if (const char* dir = std::getenv("AXG_VIEWER_DIR"); dir && *dir) {
+    v.page = read_text(fs::path(dir) / "template.html");
+    v.css = read_text(fs::path(dir) / "view.css");
+    v.view_js = read_text(fs::path(dir) / "view.js");
+  } else {
+    v.page = assets::template_html(), v.css = assets::view_css(), v.view_js = assets::view_js();
+  }
+  const char* three_env = std::getenv("AXG_THREE_DIR");
+  if ((three_env && *three_env) || assets::three_module().empty()) {
+    const fs::path three = three_env && *three_env ? fs::path(three_env) : data_dir() / "three";
+    if (!fs::exists(three / "build" / "three.module.js"))
+      throw RunError(fmt::format("view: this build has no three.js compiled in and none is at {} (build after "
+                                 "scripts/install-deps.sh, or set AXG_THREE_DIR to an installed three package)",
+                                 three.string()));
+    v.three_module = read_text(three / "build" / "three.module.js");
+    v.three_core = read_text(three / "build" / "three.core.js");
+    v.orbit = read_text(three / "examples" / "jsm" / "controls" / "OrbitControls.js");
+  } else {
+    v.three_module = assets::three_module(), v.three_core = assets::three_core(), v.orbit = assets::orbit_controls();
+  }
+  return v;
+}
+
 // three.js as data: modules. three.module.js imports './three.core.js', which has no
 // meaning inside a data: URL: it is remapped to the bare name "three/core".
-std::string import_map(const fs::path& three) {
-  std::string module = read_text(three / "build" / "three.module.js");
+std::string import_map(const ViewerFiles& v) {
+  std::string module = v.three_module;
   for (std::size_t p; (p = module.find("'./three.core.js'")) != std::string::npos;) module.replace(p, 17, "'three/core'");
-  const std::string core = read_text(three / "build" / "three.core.js");
-  const std::string orbit = read_text(three / "examples" / "jsm" / "controls" / "OrbitControls.js");
   auto url = [](const std::string& src) { return "data:text/javascript;base64," + base64(src.data(), src.size()); };
   json m;
-  m["imports"] = {{"three", url(module)}, {"three/core", url(core)}, {"three/addons/OrbitControls.js", url(orbit)}};
+  m["imports"] = {{"three", url(module)}, {"three/core", url(v.three_core)},
+                  {"three/addons/OrbitControls.js", url(v.orbit)}};
   return m.dump();
 }
 
@@ -130,13 +157,7 @@ int cmd_view(const std::string& dir_name) {
   const json manifest = require_whole_run(dir, "view");
   auto listed = [&](const char* name) { return manifest["files"].contains(name); };
   auto load_listed = [&](const char* name, Csv& out) { return listed(name) && load_csv(dir / name, out); };
-  const fs::path source = validate::source_dir();
-  const fs::path viewer = asset_dir("AXG_VIEWER_DIR", source / "viewer");
-  const fs::path three = asset_dir("AXG_THREE_DIR", source / "node_modules" / "three");
-  if (!fs::exists(three / "build" / "three.module.js"))
-    throw RunError(fmt::format("view: three.js is not installed at {} (run `npm ci` in the source tree, or set "
-                               "AXG_THREE_DIR to an installed three package)",
-                               three.string()));
+  const ViewerFiles files = viewer_files();
 
   json meta;
   std::vector<std::string> missing, notes;
@@ -293,7 +314,7 @@ int cmd_view(const std::string& dir_name) {
   meta["title"] = title;
   data["meta"] = meta;
 
-  std::string page = read_text(viewer / "template.html");
+  std::string page = files.page;
   auto fill = [&](const std::string& key, const std::string& value) {
     const std::size_t p = page.find(key);
     if (p != std::string::npos) page.replace(p, key.size(), value);
@@ -311,9 +332,9 @@ int cmd_view(const std::string& dir_name) {
   for (const auto& note : notes) notes_html += "<div>" + escape(note) + "</div>";
   fill("{{NOTES}}", notes_html);
   fill("{{TITLE}}", title);
-  fill("{{CSS}}", read_text(viewer / "view.css"));
-  fill("{{IMPORTMAP}}", import_map(three));
-  fill("{{VIEWJS}}", read_text(viewer / "view.js"));
+  fill("{{CSS}}", files.css);
+  fill("{{IMPORTMAP}}", import_map(files));
+  fill("{{VIEWJS}}", files.view_js);
   fill("{{DATA}}", data_text);
   AtomicFile f(dir, "view.html");
   f.write(page);
@@ -330,17 +351,23 @@ int cmd_plot(const std::string& dir_name) {
   if (!fs::is_directory(dir)) throw InputError(fmt::format("plot: {} is not a directory", dir_name));
   const std::string& python = validate::plotting_python();
   if (python.empty()) throw RunError("plot: no python3 with matplotlib (install Debian's python3-matplotlib)");
-  const fs::path script =
-      asset_dir("AXG_VIEWER_DIR", validate::source_dir() / "viewer") / "plot_run.py";
+  // The helper compiled in (or AXG_VIEWER_DIR's), handed to Python on its standard input.
+  const char* viewer_env = std::getenv("AXG_VIEWER_DIR");
+  const std::string source = viewer_env && *viewer_env ? read_text(fs::path(viewer_env) / "plot_run.py")
+                                                       : std::string(assets::plot_run_py());
+  const std::string script = "plot_run.py";
   require_whole_run(dir, "plot");
   // The helper prints one line and exits 2 (data) or 3 (machine) on every failure it can
   // catch; anything else (a crash, a signal, no interpreter) is reported here as one line.
-  const int rc = std::system(fmt::format("'{}' '{}' '{}'", python, script.string(), dir.string()).c_str());
-  if (rc == -1) throw RunError(fmt::format("plot: cannot start {}", python));
-  if (WIFSIGNALED(rc)) throw RunError(fmt::format("plot: {} was killed by signal {}", script.string(), WTERMSIG(rc)));
+  std::FILE* pipe = ::popen(fmt::format("'{}' - '{}'", python, dir.string()).c_str(), "w");
+  if (!pipe) throw RunError(fmt::format("plot: cannot start {}", python));
+  const bool sent = std::fwrite(source.data(), 1, source.size(), pipe) == source.size();
+  const int rc = ::pclose(pipe);
+  if (rc == -1 || !sent) throw RunError(fmt::format("plot: cannot start {}", python));
+  if (WIFSIGNALED(rc)) throw RunError(fmt::format("plot: {} was killed by signal {}", script, WTERMSIG(rc)));
   const int code = WIFEXITED(rc) ? WEXITSTATUS(rc) : kExitCannotRun;
   if (code == kExitOk || code == kExitBadInput || code == kExitCannotRun) return code;
-  throw RunError(fmt::format("plot: {} failed (exit status {})", script.string(), code));
+  throw RunError(fmt::format("plot: {} failed (exit status {})", script, code));
 }
 
 }  // namespace axg::app

@@ -9,6 +9,10 @@ packages=(
   libgtest-dev librapidcheck-dev librandom123-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libssl-dev
   python3 python3-matplotlib python3-pil
+  # SONATA output (libhdf5), the Python module (pybind11, numpy) and the clients its tests
+  # read our files with: h5py, PyNN (SONATA), NEURON (SWC through Import3d), networkx
+  libhdf5-dev python3-dev python3-pybind11 python3-numpy python3-pytest
+  python3-h5py python3-pynn python3-neuron python3-networkx
   # the viewer's tests: VTK's reader for the ParaView files, headless Chromium for the page
   python3-vtk9 chromium
   # the fuzzers (fuzz/): clang, and libFuzzer with the sanitizers' runtimes (only a

@@ -23,6 +23,7 @@
 #include <gsl/gsl_cdf.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/resources.hpp"
 #include "axonguide/sweep.hpp"
 #include "axonguide/validate/validate.hpp"
 
@@ -110,7 +111,7 @@ Peak peak_with_jackknife(const Series& s) {
 }  // namespace
 
 void validate_assay(const Options& o, Report& r) {
-  const auto path = source_dir() / "scenes" / "assay-explant.json";
+  const auto path = data_dir() / "scenes" / "assay-explant.json";
   std::ifstream in(path);
   if (!in) throw RunError(fmt::format("validate assay: cannot read {}", path.string()));
   std::stringstream ss;

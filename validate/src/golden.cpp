@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/error.hpp"
+#include "axonguide/resources.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/threads.hpp"
 #include "axonguide/validate/report.hpp"
@@ -124,7 +125,7 @@ std::string utc_now() {
 
 fs::path default_golden_dir() {
   if (fs::is_directory("data/golden")) return "data/golden";
-  return source_dir() / "data" / "golden";
+  return data_dir() / "data" / "golden";
 }
 
 std::vector<GoldenResult> golden_check(const fs::path& dir, const EngineFactory& make, int threads) {

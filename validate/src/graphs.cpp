@@ -14,6 +14,7 @@
 #include "axonguide/core/random.hpp"
 #include "axonguide/graph.hpp"
 #include "axonguide/output.hpp"
+#include "axonguide/resources.hpp"
 #include "axonguide/run.hpp"
 #include "axonguide/threads.hpp"
 #include "axonguide/validate/validate.hpp"
@@ -119,7 +120,7 @@ void validate_gpu(const Options& o, Report& r) {
   const fs::path tmp = fs::temp_directory_path() / fmt::format("axonguide-validate-gpu-{}", ::getpid());
   std::vector<std::pair<std::string, Scene>> scenes{{"builtin-default", Scene::builtin_default()}};
   for (const char* dir : {"scenes"}) {
-    const fs::path root = source_dir() / dir;
+    const fs::path root = data_dir() / dir;
     if (!fs::exists(root)) continue;
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(root))

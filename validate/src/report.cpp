@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/resources.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::validate {
@@ -18,14 +19,9 @@ std::string num(double v, int digits) {
   return fmt::format("{:.{}g}", v, digits);
 }
 
-fs::path source_dir() {
-  const char* env = std::getenv("AXG_SOURCE_DIR");
-  return env && *env ? fs::path(env) : fs::path(AXG_SOURCE_DIR);
-}
-
 fs::path plots_dir() {
   const char* env = std::getenv("AXG_PLOTS_DIR");
-  return env && *env ? fs::path(env) : fs::path(AXG_PLOTS_DIR);
+  return env && *env ? fs::path(env) : data_dir() / "validate" / "plots";
 }
 
 Report::Report(fs::path dir, std::string title) : dir_(std::move(dir)), title_(std::move(title)) {

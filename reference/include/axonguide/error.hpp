@@ -18,6 +18,16 @@ inline constexpr int kExitCannotRun = 3;
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  // A scene error also names its parts: the key path ("cues.sources[2].kd"), the value as
+  // written, and what is allowed (the Python module's SceneError carries them).
+  InputError(const std::string& message, std::string key, std::string value, std::string allowed)
+      : std::runtime_error(message), key_(std::move(key)), value_(std::move(value)), allowed_(std::move(allowed)) {}
+  const std::string& key() const { return key_; }
+  const std::string& value() const { return value_; }
+  const std::string& allowed() const { return allowed_; }
+
+ private:
+  std::string key_, value_, allowed_;
 };
 
 class RunError : public std::runtime_error {

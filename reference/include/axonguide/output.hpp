@@ -12,7 +12,10 @@ namespace axg {
 // A buffered file that becomes visible under its name only on commit().
 class AtomicFile {
  public:
-  AtomicFile(const std::filesystem::path& dir, const std::string& name);
+  // kFile: commit() syncs the file before the rename. kDeferred: it does not; the writer
+  // of many small files (one SWC per neuron) syncs them all at once with sync_filesystem.
+  enum class Sync { kFile, kDeferred };
+  AtomicFile(const std::filesystem::path& dir, const std::string& name, Sync sync = Sync::kFile);
   ~AtomicFile();
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
@@ -28,11 +31,16 @@ class AtomicFile {
   std::filesystem::path final_, temp_;
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  Sync sync_;
   void* digest_ = nullptr;  // EVP_MD_CTX, hashed as bytes are written
 };
 
 // Writes a whole file atomically (AtomicFile, write, commit); returns its SHA-256.
 std::string write_file_atomically(const std::filesystem::path& dir, const std::string& name, std::string_view text);
+
+// Syncs the file system that holds dir (syncfs): the deferred AtomicFiles written there
+// are on disk when it returns. Throws RunError when it fails.
+void sync_filesystem(const std::filesystem::path& dir);
 
 // Incremental SHA-256 (OpenSSL EVP).
 class Sha256 {

@@ -171,7 +171,20 @@ struct Scene {
     std::uint32_t checkpoint_every = 0;
     std::optional<double> checkpoint_seconds;
     double checkpoint_interval() const { return checkpoint_seconds.value_or(600.0); }
+    bool swc = false;     // morphologies/<id>.swc: the soma and the axon's path (needs paths)
+    bool sonata = false;  // network/: SONATA nodes.h5, edges.h5, type tables, circuit_config.json
+    // graph.graphml: true, false, or nullopt = written up to kGraphmlAutoLimit neurons.
+    std::optional<bool> graphml;
+    // Axonal conduction speed for the SONATA edges' delays, m/s (= mm/ms); nullopt: 0.5.
+    std::optional<double> conduction_speed;
+    double conduction_m_per_s() const { return conduction_speed.value_or(kDefaultConductionSpeed); }
   } output;
+
+  // Above this many neurons graph.graphml (about 390 bytes of XML per neuron) is written
+  // only when output.graphml is true; SONATA is the format for large networks.
+  static constexpr std::uint64_t kGraphmlAutoLimit = 100000;
+  static constexpr double kDefaultConductionSpeed = 0.5;
+  bool writes_graphml() const { return output.graphml.value_or(neurons.count <= kGraphmlAutoLimit); }
 
   // Derived quantities.
   double bounds_radius() const { return axons.bounds_radius.value_or(neurons.radius); }

@@ -1,5 +1,6 @@
 #include "axonguide/output.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -30,8 +31,8 @@ std::string to_hex(const unsigned char* md, unsigned int len) {
 }
 }  // namespace
 
-AtomicFile::AtomicFile(const fs::path& dir, const std::string& name)
-    : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())) {
+AtomicFile::AtomicFile(const fs::path& dir, const std::string& name, Sync sync)
+    : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())), sync_(sync) {
   file_ = std::fopen(temp_.c_str(), "wb");
   if (!file_)
     throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(errno)));
@@ -58,7 +59,7 @@ void AtomicFile::write(std::string_view text) {
 
 std::string AtomicFile::commit() {
   fault_point("output " + final_.filename().string());
-  const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+  const bool ok = std::fflush(file_) == 0 && (sync_ == Sync::kDeferred || ::fsync(::fileno(file_)) == 0);
   const int err = errno;
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
@@ -72,6 +73,14 @@ std::string AtomicFile::commit() {
   unsigned int len = 0;
   EVP_DigestFinal_ex(static_cast<EVP_MD_CTX*>(digest_), md, &len);
   return to_hex(md, len);
+}
+
+void sync_filesystem(const fs::path& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  const bool ok = fd >= 0 && ::syncfs(fd) == 0;
+  const int err = errno;
+  if (fd >= 0) ::close(fd);
+  if (!ok) throw RunError(fmt::format("cannot sync {}: {}", dir.string(), std::strerror(err)));
 }
 
 Sha256::Sha256() : ctx_(EVP_MD_CTX_new()) {

@@ -21,6 +21,7 @@
 #include "axonguide/error.hpp"
 #include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
+#include "axonguide/sonata.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg {
@@ -31,14 +32,41 @@ using nlohmann::json;
 namespace {
 
 const std::set<std::string>& fixed_outputs() {
-  static const std::set<std::string> names{"neurons.csv", "connections.csv", "stats.csv",   "bfs.csv",
-                                           "paths.csv",   "sources.csv",     "particles.csv", "graph.graphml",
-                                           "timings.csv", "growth.pvd",      kManifestName,   kCheckpointName};
+  static const std::set<std::string> names = [] {
+    std::set<std::string> n{"neurons.csv",   "connections.csv", "stats.csv",     "bfs.csv",
+                            "paths.csv",     "sources.csv",     "particles.csv", "graph.graphml",
+                            "timings.csv",   "growth.pvd",      kManifestName,   kCheckpointName};
+    n.insert(std::begin(kSonataFiles), std::end(kSonataFiles));
+    return n;
+  }();
   return names;
 }
 
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// The subfolders a run writes, and the files in them that are a run's: one per VTK frame
+// ("vtk/*.vtp" in a manifest's plan) and one per neuron's morphology ("morphologies/*.swc");
+// network/ holds the fixed SONATA files.
+struct Subfolder {
+  const char* name;
+  const char* extension;  // every file with it is a run's; nullptr: only the fixed names
+  const char* pattern;    // how a plan lists them all
+};
+constexpr Subfolder kSubfolders[] = {
+    {"vtk", ".vtp", "vtk/*.vtp"}, {"morphologies", ".swc", "morphologies/*.swc"}, {"network", nullptr, nullptr}};
+
+std::vector<fs::path> run_dirs(const fs::path& dir) {
+  std::vector<fs::path> dirs{dir};
+  for (const Subfolder& s : kSubfolders) dirs.push_back(dir / s.name);
+  return dirs;
+}
+
+bool is_subfolder(const std::string& name) {
+  for (const Subfolder& s : kSubfolders)
+    if (name == s.name) return true;
+  return false;
 }
 
 // ".NAME.tmp-PID" for an output NAME (AtomicFile's temporary names).
@@ -49,7 +77,9 @@ bool is_temporary(const std::string& file) {
   const std::string pid = file.substr(at + 5);
   if (pid.empty() || !std::all_of(pid.begin(), pid.end(), [](char c) { return c >= '0' && c <= '9'; })) return false;
   const std::string name = file.substr(1, at - 1);
-  return fixed_outputs().count(name) != 0 || ends_with(name, ".vtp");
+  for (const std::string& output : fixed_outputs())
+    if (fs::path(output).filename() == name) return true;
+  return ends_with(name, ".vtp") || ends_with(name, ".swc");
 }
 
 std::string utc_now() {
@@ -78,7 +108,12 @@ void remove_file(const fs::path& p) {
 }  // namespace
 
 bool is_run_output(const std::string& name) {
-  return fixed_outputs().count(name) != 0 || (name.rfind("vtk/", 0) == 0 && ends_with(name, ".vtp"));
+  if (fixed_outputs().count(name) != 0) return true;
+  for (const Subfolder& s : kSubfolders)
+    if (s.extension && name.rfind(std::string(s.name) + "/", 0) == 0 && ends_with(name, s.extension) &&
+        name.find('/', std::strlen(s.name) + 1) == std::string::npos)
+      return true;
+  return false;
 }
 
 json read_manifest(const fs::path& dir) {
@@ -211,7 +246,7 @@ FolderLock::~FolderLock() {
 
 void remove_stale_temporaries(const fs::path& dir) {
   std::error_code ec;
-  for (const fs::path& d : {dir, dir / "vtk"}) {
+  for (const fs::path& d : run_dirs(dir)) {
     if (!fs::is_directory(d, ec)) continue;
     std::vector<fs::path> stale;
     for (const auto& e : fs::directory_iterator(d, ec))
@@ -224,11 +259,11 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
   std::error_code ec;
   std::vector<std::string> outputs;
   FolderClaim claim;
-  for (const fs::path& d : {dir, dir / "vtk"}) {
+  for (const fs::path& d : run_dirs(dir)) {
     if (!fs::is_directory(d, ec)) continue;
     for (const auto& e : fs::directory_iterator(d, ec)) {
       const std::string name = fs::relative(e.path(), dir, ec).generic_string();
-      if (name == kLockName || name == "vtk" || is_temporary(e.path().filename().string())) continue;
+      if (name == kLockName || is_subfolder(name) || is_temporary(e.path().filename().string())) continue;
       (is_run_output(name) ? outputs : claim.foreign).push_back(name);
     }
   }
@@ -262,9 +297,13 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
     if (m.contains(key) && m[key].is_array())
       for (const auto& name : m[key])
         if (name.is_string()) listed.insert(name.get<std::string>());
-  const bool all_vtk = listed.count("vtk/*.vtp") != 0;
+  auto listed_by_pattern = [&](const std::string& name) {
+    for (const Subfolder& s : kSubfolders)
+      if (s.pattern && listed.count(s.pattern) != 0 && name.rfind(std::string(s.name) + "/", 0) == 0) return true;
+    return false;
+  };
   for (const std::string& name : outputs) {
-    if ((listed.count(name) != 0 || (all_vtk && name.rfind("vtk/", 0) == 0)) && safe_relative(name))
+    if ((listed.count(name) != 0 || listed_by_pattern(name)) && safe_relative(name))
       claim.replacing.push_back(name);
     else
       claim.foreign.push_back(name);
@@ -276,17 +315,21 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
 void remove_run_files(const fs::path& dir, const std::vector<std::string>& names) {
   std::error_code ec;
   for (const std::string& name : names) {
-    if (name == "vtk/*.vtp") {
-      std::vector<fs::path> frames;
-      for (const auto& e : fs::directory_iterator(dir / "vtk", ec))
-        if (is_run_output("vtk/" + e.path().filename().string())) frames.push_back(e.path());
-      for (const auto& p : frames) remove_file(p);
+    const Subfolder* all = nullptr;
+    for (const Subfolder& s : kSubfolders)
+      if (s.pattern && name == s.pattern) all = &s;
+    if (all) {
+      std::vector<fs::path> files;
+      for (const auto& e : fs::directory_iterator(dir / all->name, ec))
+        if (is_run_output(std::string(all->name) + "/" + e.path().filename().string())) files.push_back(e.path());
+      for (const auto& p : files) remove_file(p);
     } else if (safe_relative(name) && is_run_output(name) && name != kManifestName) {
       if (fs::exists(dir / name, ec)) remove_file(dir / name);
     }
   }
   remove_stale_temporaries(dir);
-  if (fs::is_directory(dir / "vtk", ec) && fs::is_empty(dir / "vtk", ec)) fs::remove(dir / "vtk", ec);
+  for (const Subfolder& s : kSubfolders)
+    if (fs::is_directory(dir / s.name, ec) && fs::is_empty(dir / s.name, ec)) fs::remove(dir / s.name, ec);
 }
 
 json manifest_header(const Scene& scene, const std::string& backend, int threads,

@@ -13,6 +13,8 @@
 #include "axonguide/output.hpp"
 #include "axonguide/run_folder.hpp"
 #include "axonguide/run.hpp"
+#include "axonguide/sonata.hpp"
+#include "axonguide/swc.hpp"
 #include "axonguide/version.hpp"
 #include "axonguide/vtk.hpp"
 
@@ -161,7 +163,8 @@ void write_timings(const RunResult& r, AtomicFile& f) {
 }  // namespace
 
 std::vector<std::string> planned_outputs(const Scene& s) {
-  std::vector<std::string> names = {"neurons.csv", "connections.csv", "stats.csv", "graph.graphml", "timings.csv"};
+  std::vector<std::string> names = {"neurons.csv", "connections.csv", "stats.csv", "timings.csv"};
+  if (s.writes_graphml()) names.push_back("graph.graphml");
   if (!s.analysis.bfs_sources.empty() || s.analysis.components) names.push_back("bfs.csv");
   if (s.output.paths) names.push_back("paths.csv");
   if (s.uses_cues()) names.push_back("sources.csv");
@@ -171,6 +174,9 @@ std::vector<std::string> planned_outputs(const Scene& s) {
     names.push_back("growth.pvd");
     names.push_back("vtk/*.vtp");
   }
+  if (s.output.swc) names.push_back("morphologies/*.swc");
+  if (s.output.sonata)
+    for (const char* f : kSonataFiles) names.push_back(f);
   return names;
 }
 
@@ -197,8 +203,10 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   if (r.scene.output.paths) emit("paths.csv", write_paths);
   if (!r.cues.empty()) emit("sources.csv", write_sources);
   if (!r.frames.empty()) emit("particles.csv", write_particles);
-  emit("graph.graphml", write_graphml);
+  if (r.scene.writes_graphml()) emit("graph.graphml", write_graphml);
   if (r.scene.output.vtk) write_vtk(r, dir, info);
+  if (r.scene.output.swc) write_swc(r, dir, info);
+  if (r.scene.output.sonata) write_sonata(r, dir, info);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   emit("timings.csv", write_timings);
 

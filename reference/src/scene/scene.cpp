@@ -40,7 +40,7 @@ std::string join_path(const std::string& path, const std::string& key) {
 }
 
 [[noreturn]] void fail(const std::string& path, const json& value, const std::string& allowed) {
-  throw InputError(fmt::format("scene: {} = {}: {}", path, show(value), allowed));
+  throw InputError(fmt::format("scene: {} = {}: {}", path, show(value), allowed), path, show(value), allowed);
 }
 
 // An allowed numeric interval, printed the way a user reads it.
@@ -124,8 +124,8 @@ class ObjectReader {
       if (!known) {
         std::string list;
         for (const char* k : allowed_) list += fmt::format("{}{}", list.empty() ? "" : ", ", k);
-        throw InputError(fmt::format("scene: unknown key {} (allowed here: {})",
-                                     join_path(path_, it.key()), list));
+        throw InputError(fmt::format("scene: unknown key {} (allowed here: {})", join_path(path_, it.key()), list),
+                         join_path(path_, it.key()), show(it.value()), "one of the keys " + list);
       }
     }
   }
@@ -409,6 +409,15 @@ void read_scene(const json& root, Scene& s) {
     r.integer("frames_every", s.output.frames_every, 1, 1000000000);
     r.integer("checkpoint_every", s.output.checkpoint_every, 0, 1000000000);
     r.optional_number("checkpoint_seconds", s.output.checkpoint_seconds, non_negative());
+    r.boolean("swc", s.output.swc);
+    r.boolean("sonata", s.output.sonata);
+    if (const json* v = r.take("graphml")) {
+      if (v->is_null()) s.output.graphml.reset();
+      else if (v->is_boolean()) s.output.graphml = v->get<bool>();
+      else fail(r.path("graphml"), *v, fmt::format("must be true, false or null (null: written up to {} neurons)",
+                                                    Scene::kGraphmlAutoLimit));
+    }
+    r.optional_number("conduction_speed", s.output.conduction_speed, positive());
     r.finish();
   }
   top.finish();
@@ -515,7 +524,7 @@ ParseResult parse_scene(const std::string& text, const std::string& origin) {
   try {
     return parse_scene_unescaped(text, origin);
   } catch (const InputError& e) {
-    throw InputError(printable(e.what()));
+    throw InputError(printable(e.what()), printable(e.key()), printable(e.value()), printable(e.allowed()));
   }
 }
 
@@ -523,6 +532,10 @@ void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warning
   if (scene.output.vtk && !scene.output.paths) {
     scene.output.paths = true;
     warnings.push_back("output.vtk draws the axons' paths: output.paths is enabled");
+  }
+  if (scene.output.swc && !scene.output.paths) {
+    scene.output.paths = true;
+    warnings.push_back("output.swc writes the axons' paths: output.paths is enabled");
   }
 }
 
@@ -680,6 +693,12 @@ json scene_to_json(const Scene& s) {
   // Written only when given, so the bytes of older scenes (and their hashes) stay.
   if (s.output.checkpoint_every != 0) j["output"]["checkpoint_every"] = s.output.checkpoint_every;
   if (s.output.checkpoint_seconds) j["output"]["checkpoint_seconds"] = *s.output.checkpoint_seconds;
+  // Keys added after the golden networks were blessed appear only when set, so that a
+  // scene that does not use them keeps its canonical form (and hash).
+  if (s.output.swc) j["output"]["swc"] = true;
+  if (s.output.sonata) j["output"]["sonata"] = true;
+  if (s.output.graphml) j["output"]["graphml"] = *s.output.graphml;
+  if (s.output.conduction_speed) j["output"]["conduction_speed"] = *s.output.conduction_speed;
   return j;
 }
 

@@ -60,11 +60,8 @@ std::string num(double v, int digits = 4);
 // empty when there is none.
 const std::string& plotting_python();
 
-// The source tree (scenes, data, viewer, node_modules); AXG_SOURCE_DIR in the environment
-// overrides the path compiled in (relocated bundles).
-std::filesystem::path source_dir();
-
-// Where the plotting scripts live (AXG_PLOTS_DIR overrides the source tree's).
+// Where the plotting scripts live: AXG_PLOTS_DIR, or validate/plots under data_dir()
+// (axonguide/resources.hpp: the installed share/axonguide, or the source tree).
 std::filesystem::path plots_dir();
 
 }  // namespace axg::validate

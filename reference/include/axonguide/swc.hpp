@@ -1,0 +1,25 @@
+#pragma once
+// Morphologies: one SWC file per neuron under DIR/morphologies (output.swc), following
+// SONATA's rules for SWC: ids from 1, every parent before its children, a single-point
+// soma (type 1) first, then the axon (type 3 is dendrite in SWC; the axon is type 2).
+#include <filesystem>
+#include <string>
+
+#include "axonguide/run.hpp"
+
+namespace axg {
+
+// The SWC of neuron i: the soma, then the axon's tip after each step it grew (r.paths,
+// output.paths). Coordinates and radii in micrometres (LU x kMicrometresPerLu when the
+// scene declares no length unit).
+std::string swc_text(const RunResult& r, std::size_t i);
+
+// The radius given to every axon point, micrometres (SWC needs one; the model's axons
+// have no thickness).
+inline constexpr double kSwcAxonRadiusUm = 0.5;
+
+// Writes morphologies/<id>.swc for every neuron and records their hashes in `info`, in id
+// order. Needs r.paths.
+void write_swc(const RunResult& r, const std::filesystem::path& dir, OutputInfo& info);
+
+}  // namespace axg

@@ -1,0 +1,55 @@
+// SWC morphologies (docs/methods.md §4.3). Each file is a pure function of the run: numbers
+// in their shortest round-trip form, the soma first, the axon's points in step order.
+#include "axonguide/swc.hpp"
+
+#include <fmt/format.h>
+
+#include <tbb/parallel_for.h>
+
+#include "axonguide/canonical_nan.hpp"
+#include "axonguide/output.hpp"
+#include "axonguide/scene.hpp"
+
+namespace axg {
+
+namespace fs = std::filesystem;
+
+namespace {
+double micrometres_per_unit(const Scene& s) { return s.units.length == "um" ? 1.0 : kMicrometresPerLu; }
+}  // namespace
+
+std::string swc_text(const RunResult& r, std::size_t i) {
+  const double um = micrometres_per_unit(r.scene);
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  fmt::format_to(out, "# axonguide neuron {} ({}): soma, then the axon's tip after each step; micrometres\n", i,
+                 name_of(r.neurons.status[i]));
+  const core::Vec3 soma = canonical(r.soma[i]);
+  fmt::format_to(out, "1 1 {} {} {} {} -1\n", soma.x * um, soma.y * um, soma.z * um,
+                 canonical(r.scene.neurons.soma_radius) * um);
+  const std::size_t last = std::min<std::size_t>(r.neurons.steps[i], r.paths.empty() ? 0 : r.paths.size() - 1);
+  if (r.neurons.length[i] > 0 && !r.paths.empty())
+    for (std::size_t s = 0; s <= last; ++s) {
+      const core::Vec3 p = canonical(r.paths[s][i]);
+      fmt::format_to(out, "{} 2 {} {} {} {} {}\n", s + 2, p.x * um, p.y * um, p.z * um, kSwcAxonRadiusUm, s + 1);
+    }
+  return fmt::to_string(b);
+}
+
+void write_swc(const RunResult& r, const fs::path& dir, OutputInfo& info) {
+  const fs::path mdir = dir / "morphologies";
+  fs::create_directories(mdir);
+  const std::size_t n = r.neurons.size();
+  std::vector<std::string> hashes(n);
+  // Many small files: each is renamed into place unsynced, and the file system is synced
+  // once before their hashes are recorded (and the manifest names them).
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    AtomicFile f(mdir, fmt::format("{}.swc", i), AtomicFile::Sync::kDeferred);
+    f.write(swc_text(r, i));
+    hashes[i] = f.commit();
+  });
+  sync_filesystem(mdir);
+  for (std::size_t i = 0; i < n; ++i) info.files.emplace_back(fmt::format("morphologies/{}.swc", i), std::move(hashes[i]));
+}
+
+}  // namespace axg

@@ -1,6 +1,6 @@
-// SONATA output (docs/methods.md §7.2) through the HDF5 C API. Each HDF5 file is built in
-// memory (the core driver, no backing store) and its image written through AtomicFile,
-// so it appears under its name only when whole and is hashed as it is written.
+// SONATA output (docs/methods.md §7.2) through the HDF5 C API. Each HDF5 file is written
+// under a temporary name, closed, synced and renamed, so it appears under its name only
+// when whole, and hashed from disk (HDF5 writes out of order).
 //
 // Byte determinism: every group and dataset is created with object time tracking off,
 // the format is pinned (libver bounds earliest..1.8: superblock 0, version-1 object
@@ -9,9 +9,13 @@
 // thread count. Strings are fixed-length, so nothing goes to a global heap.
 #include "axonguide/sonata.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <array>
+#include <cerrno>
+#include <cstring>
 #include <cstdint>
 #include <numeric>
 #include <string>
@@ -19,9 +23,11 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <tbb/task_group.h>
 
 #include "axonguide/canonical_nan.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/fault.hpp"
 #include "axonguide/output.hpp"
 
 namespace axg {
@@ -58,6 +64,11 @@ class Handle {
   Handle& operator=(const Handle&) = delete;
   Handle& operator=(Handle&&) = delete;
   operator hid_t() const { return id_; }
+  herr_t close() {
+    const herr_t status = id_ >= 0 ? close_(id_) : 0;
+    id_ = -1;
+    return status;
+  }
 
  private:
   hid_t id_;
@@ -158,33 +169,55 @@ void strings(hid_t parent, const char* name, const std::vector<std::string>& val
   dataset(parent, name, type, type, packed.data(), {values.size()});
 }
 
-// An HDF5 file held in memory; image() returns its bytes.
-class MemoryFile {
+// An HDF5 file written under a temporary name in `dir` (".NAME.tmp-PID", as AtomicFile
+// names them) and renamed by commit(); removed if never committed.
+class H5Output {
  public:
-  MemoryFile() : fapl_(property_list(H5P_FILE_ACCESS)), fcpl_(property_list(H5P_FILE_CREATE)), file_(create()) {
+  H5Output(const fs::path& dir, const std::string& name)
+      : name_(name), final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())), file_(create()) {
     scalar_attribute(file_, "version", kSonataVersion, 2);
     scalar_attribute(file_, "magic", &kSonataMagic, 1);
   }
+  ~H5Output() {
+    if (committed_) return;
+    file_.close();
+    std::error_code ec;
+    fs::remove(temp_, ec);
+  }
+  H5Output(const H5Output&) = delete;
+  H5Output& operator=(const H5Output&) = delete;
   operator hid_t() const { return file_; }
 
-  std::string image() {
-    ok(H5Fflush(file_, H5F_SCOPE_GLOBAL), "H5Fflush");
-    const ssize_t size = H5Fget_file_image(file_, nullptr, 0);
-    if (size < 0) fail("H5Fget_file_image");
-    std::string bytes(static_cast<std::size_t>(size), '\0');
-    if (H5Fget_file_image(file_, bytes.data(), bytes.size()) != size) fail("H5Fget_file_image");
-    return bytes;
+  // Closes, syncs and renames the file into place.
+  void commit() {
+    if (file_.close() < 0) fail("H5Fclose");
+    const int fd = ::open(temp_.c_str(), O_RDONLY);
+    const bool synced = fd >= 0 && ::fsync(fd) == 0;
+    const int err = errno;
+    if (fd >= 0) ::close(fd);
+    if (!synced) throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(err)));
+    fault_point("output " + name_);
+    std::error_code ec;
+    fs::rename(temp_, final_, ec);
+    if (ec) throw RunError(fmt::format("cannot rename {} to {}: {}", temp_.string(), final_.string(), ec.message()));
+    committed_ = true;
   }
 
  private:
-  Handle fapl_, fcpl_, file_;
+  std::string name_;
+  fs::path final_, temp_;
+  Handle file_;
+  bool committed_ = false;
 
   Handle create() {
-    // Core driver without a backing store: the name is never created on disk.
-    ok(H5Pset_fapl_core(fapl_, std::size_t{16} << 20, 0), "H5Pset_fapl_core");
-    ok(H5Pset_libver_bounds(fapl_, H5F_LIBVER_EARLIEST, H5F_LIBVER_V18), "H5Pset_libver_bounds");
-    ok(H5Pset_obj_track_times(fcpl_, 0), "H5Pset_obj_track_times");  // the root group
-    return Handle(H5Fcreate("axonguide-sonata-image.h5", H5F_ACC_TRUNC, fcpl_, fapl_), H5Fclose, "H5Fcreate");
+    Handle fapl = property_list(H5P_FILE_ACCESS), fcpl = property_list(H5P_FILE_CREATE);
+    ok(H5Pset_libver_bounds(fapl, H5F_LIBVER_EARLIEST, H5F_LIBVER_V18), "H5Pset_libver_bounds");
+#if H5_VERSION_GE(1, 10, 7)
+    // The temporary is this process's own; no lock (which some file systems refuse).
+    ok(H5Pset_file_locking(fapl, false, true), "H5Pset_file_locking");
+#endif
+    ok(H5Pset_obj_track_times(fcpl, 0), "H5Pset_obj_track_times");  // the root group
+    return Handle(H5Fcreate(temp_.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose, "H5Fcreate");
   }
 };
 
@@ -197,10 +230,10 @@ std::vector<std::uint64_t> iota64(std::size_t n) {
 // Micrometres per length unit of the scene: 40 µm per LU (kMicrometresPerLu), 1 for "um".
 double micrometres_per_unit(const Scene& s) { return s.units.length == "um" ? 1.0 : kMicrometresPerLu; }
 
-std::string nodes_image(const RunResult& r) {
+void write_nodes(const RunResult& r, const fs::path& dir) {
   const std::size_t n = r.neurons.size();
   const double um = micrometres_per_unit(r.scene);
-  MemoryFile f;
+  H5Output f(dir, "nodes.h5");
   Handle nodes = group(f, "nodes");
   Handle pop = group(nodes, kNodePopulation);
   {
@@ -237,7 +270,7 @@ std::string nodes_image(const RunResult& r) {
     Handle library = group(g0, "@library");
     strings(library, "status", std::vector<std::string>(kStatusNames.begin(), kStatusNames.end()));
   }
-  return f.image();
+  f.commit();
 }
 
 using Ranges = std::vector<std::array<std::uint64_t, 2>>;
@@ -247,31 +280,26 @@ using Ranges = std::vector<std::array<std::uint64_t, 2>>;
 // grouped by node (ascending) and in edge order within a node; node_id_to_ranges[v] is the
 // half-open row range of v's runs, empty ([k, k]) for a node without edges.
 void edge_index(hid_t indices, const char* name, const std::vector<std::uint32_t>& node_of_edge, std::size_t nodes) {
-  Ranges runs;
-  std::vector<std::uint32_t> run_node;
-  for (std::size_t e = 0; e < node_of_edge.size(); ++e) {
-    if (e == 0 || node_of_edge[e] != node_of_edge[e - 1]) {
-      runs.push_back({e, e + 1});
-      run_node.push_back(node_of_edge[e]);
-    } else {
-      runs.back()[1] = e + 1;
-    }
-  }
-  Ranges node_ranges(nodes, {0, 0});
-  std::vector<std::uint64_t> start(nodes + 1, 0);
-  for (std::uint32_t v : run_node) ++start[v + 1];
+  const std::size_t m = node_of_edge.size();
+  auto starts_run = [&](std::size_t e) { return e == 0 || node_of_edge[e] != node_of_edge[e - 1]; };
+  std::vector<std::uint64_t> first(nodes + 1, 0);  // first row of node v's runs
+  for (std::size_t e = 0; e < m; ++e)
+    if (starts_run(e)) ++first[node_of_edge[e] + 1];
+  Ranges node_ranges(nodes);
   for (std::size_t v = 0; v < nodes; ++v) {
-    start[v + 1] += start[v];
-    node_ranges[v] = {start[v], start[v + 1]};
+    first[v + 1] += first[v];
+    node_ranges[v] = {first[v], first[v + 1]};
   }
-  Ranges range_to_edge(runs.size());
-  for (std::size_t k = 0; k < runs.size(); ++k) range_to_edge[start[run_node[k]]++] = runs[k];
+  Ranges range_to_edge(first[nodes]);
+  for (std::size_t e = 0; e < m; ++e)
+    if (starts_run(e)) range_to_edge[first[node_of_edge[e]]++] = {e, e + 1};
+    else range_to_edge[first[node_of_edge[e]] - 1][1] = e + 1;
   Handle g = group(indices, name);
   dataset(g, "node_id_to_ranges", H5T_STD_U64LE, H5T_NATIVE_UINT64, node_ranges.data(), {node_ranges.size(), 2});
   dataset(g, "range_to_edge_id", H5T_STD_U64LE, H5T_NATIVE_UINT64, range_to_edge.data(), {range_to_edge.size(), 2});
 }
 
-std::string edges_image(const RunResult& r) {
+void write_edges(const RunResult& r, const fs::path& dir) {
   const auto& nr = r.neurons;
   const double um = micrometres_per_unit(r.scene);
   const double speed = r.scene.output.conduction_m_per_s();  // m/s = mm/ms = 1000 µm/ms
@@ -282,7 +310,7 @@ std::string edges_image(const RunResult& r) {
       target.push_back(nr.target[i]);
     }
   const std::size_t m = source.size();
-  MemoryFile f;
+  H5Output f(dir, "edges.h5");
   Handle edges = group(f, "edges");
   Handle pop = group(edges, kEdgePopulation);
   for (const auto& [name, ids] : {std::pair{"source_node_id", &source}, std::pair{"target_node_id", &target}}) {
@@ -322,7 +350,7 @@ std::string edges_image(const RunResult& r) {
   Handle indices = group(pop, "indices");
   edge_index(indices, "source_to_target", source, nr.size());
   edge_index(indices, "target_to_source", target, nr.size());
-  return f.image();
+  f.commit();
 }
 
 // SONATA's CSV dialect: space-separated, a header row, UNIX line ends.
@@ -352,11 +380,23 @@ void write_sonata(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   std::error_code ec;
   fs::create_directories(net, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", net.string(), ec.message()));
+  // nodes.h5 is hashed (from disk: HDF5 writes out of order) while edges.h5 is written.
+  std::string nodes_hash;
+  tbb::task_group hashing;
+  write_nodes(r, net);
+  hashing.run([&] { nodes_hash = sha256_file(net / "nodes.h5"); });
+  try {
+    write_edges(r, net);
+  } catch (...) {
+    hashing.wait();
+    throw;
+  }
+  hashing.wait();
+  info.files.emplace_back("network/nodes.h5", nodes_hash);
+  info.files.emplace_back("network/edges.h5", sha256_file(net / "edges.h5"));
   auto emit = [&](const char* name, const std::string& bytes) {
     info.files.emplace_back(std::string("network/") + name, write_file_atomically(net, name, bytes));
   };
-  emit("nodes.h5", nodes_image(r));
-  emit("edges.h5", edges_image(r));
   emit("node_types.csv", kNodeTypes);
   emit("edge_types.csv", kEdgeTypes);
   emit("circuit_config.json", circuit_config());

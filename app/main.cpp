@@ -8,6 +8,7 @@
 #include <new>
 
 #include "axonguide/error.hpp"
+#include "axonguide/resources.hpp"
 #include "axonguide/version.hpp"
 #include "commands.hpp"
 
@@ -17,7 +18,10 @@ int dispatch(int argc, char** argv) {
   using namespace axg::app;
   CLI::App app{"axonguide: deterministic simulation of axon growth and guidance through diffusing cues"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", fmt::format("axonguide {} ({})", axg::kVersion, axg::kCommit));
+  // The data folder is where the bundled scenes and golden networks are read from: the
+  // installed share/axonguide, or the source tree (axonguide/resources.hpp).
+  app.set_version_flag("--version", fmt::format("axonguide {} ({})\ndata: {}", axg::kVersion, axg::kCommit,
+                                                axg::data_dir().string()));
 
   RunArgs run;
   auto* run_cmd = app.add_subcommand("run", "Run a scene (the built-in default when SCENE is omitted)");

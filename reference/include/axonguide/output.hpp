@@ -12,8 +12,9 @@ namespace axg {
 // A buffered file that becomes visible under its name only on commit().
 class AtomicFile {
  public:
-  // kFile: commit() syncs the file before the rename. kDeferred: it does not; the writer
-  // of many small files (one SWC per neuron) syncs them all at once with sync_filesystem.
+  // kFile: commit() syncs the file before the rename. kDeferred: commit() starts the
+  // write-back and renames without waiting for it; the writer of many files syncs them
+  // all at once with sync_filesystem before anything (the manifest) names them.
   enum class Sync { kFile, kDeferred };
   AtomicFile(const std::filesystem::path& dir, const std::string& name, Sync sync = Sync::kFile);
   ~AtomicFile();

@@ -59,7 +59,11 @@ void AtomicFile::write(std::string_view text) {
 
 std::string AtomicFile::commit() {
   fault_point("output " + final_.filename().string());
-  const bool ok = std::fflush(file_) == 0 && (sync_ == Sync::kDeferred || ::fsync(::fileno(file_)) == 0);
+  // Deferred: the write-back starts now (sync_file_range does not wait for it), and
+  // sync_filesystem waits for it later.
+  const bool ok = std::fflush(file_) == 0 &&
+                  (sync_ == Sync::kDeferred ? ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE) == 0
+                                            : ::fsync(::fileno(file_)) == 0);
   const int err = errno;
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;

@@ -141,7 +141,7 @@ void write_vtk(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   const fs::path vdir = dir / "vtk";
   fs::create_directories(vdir);
   auto emit = [&](const std::string& name, const VtpWriter& w) {
-    AtomicFile f(vdir, name);
+    AtomicFile f(vdir, name, AtomicFile::Sync::kDeferred);  // write_outputs syncs
     w.write(f);
     info.files.emplace_back("vtk/" + name, f.commit());
   };
@@ -234,7 +234,7 @@ void write_vtk(const RunResult& r, const fs::path& dir, OutputInfo& info) {
     }
   }
   pvd += "  </Collection>\n</VTKFile>\n";
-  AtomicFile f(dir, "growth.pvd");
+  AtomicFile f(dir, "growth.pvd", AtomicFile::Sync::kDeferred);
   f.write(pvd);
   info.files.emplace_back("growth.pvd", f.commit());
 }

@@ -1,5 +1,6 @@
 // The files of SPEC §4. Numbers are printed in their shortest round-trip form, so a
 // file's bytes are a function of the values alone; every NaN is printed "nan" (canonical()).
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <chrono>
@@ -71,7 +72,7 @@ void write_neurons(const RunResult& r, AtomicFile& f) {
   const double radius = canonical(r.scene.neurons.soma_radius);
   write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
     const core::Vec3 soma = canonical(r.soma[i]), tip = canonical(n.tip[i]);
-    fmt::format_to(std::back_inserter(b), "{},{},{},{},{},{},{},{},{},{},{},{}\n", i, soma.x, soma.y, soma.z, radius,
+    fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{},{},{},{},{},{},{},{}\n"), i, soma.x, soma.y, soma.z, radius,
                    name_of(n.status[i]), tip.x, tip.y, tip.z, canonical(n.length[i]), n.steps[i],
                    signed_id(n.target[i]));
   });
@@ -83,7 +84,7 @@ void write_connections_to(const RunResult& r, Sink& f) {
   const auto& n = r.neurons;
   write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
     if (n.target[i] != core::kNoNeuron)
-      fmt::format_to(std::back_inserter(b), "{},{},{},{}\n", i, n.target[i], n.steps[i], canonical(n.length[i]));
+      fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{}\n"), i, n.target[i], n.steps[i], canonical(n.length[i]));
   });
 }
 
@@ -111,24 +112,23 @@ void write_bfs(const RunResult& r, AtomicFile& f) {
   const bool has_bfs = g.bfs.has_value(), has_comp = !g.component.empty();
   f.write(fmt::format("id{}{}\n", has_bfs ? ",level,parent" : "", has_comp ? ",component" : ""));
   write_rows(f, r.neurons.size(), [&](std::size_t v, fmt::memory_buffer& b) {
-    auto out = std::back_inserter(b);
-    fmt::format_to(out, "{}", v);
-    if (has_bfs) fmt::format_to(out, ",{},{}", g.bfs->level[v], signed_id(g.bfs->parent[v]));
-    if (has_comp) fmt::format_to(out, ",{}", g.component[v]);
-    fmt::format_to(out, "\n");
+    auto out = fmt::appender(b);
+    fmt::format_to(out, FMT_COMPILE("{}"), v);
+    if (has_bfs) fmt::format_to(out, FMT_COMPILE(",{},{}"), g.bfs->level[v], signed_id(g.bfs->parent[v]));
+    if (has_comp) fmt::format_to(out, FMT_COMPILE(",{}"), g.component[v]);
+    b.push_back('\n');
   });
 }
 
 void write_paths(const RunResult& r, AtomicFile& f) {
-  CsvWriter w(f);
-  w.row("id,step,x,y,z\n");
+  f.write("id,step,x,y,z\n");
   const auto& n = r.neurons;
-  for (std::size_t i = 0; i < n.size(); ++i)
+  write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {
     for (std::size_t s = 0; s < r.paths.size() && s <= n.steps[i]; ++s) {
       const core::Vec3 p = canonical(r.paths[s][i]);
-      w.row("{},{},{},{},{}\n", i, s, p.x, p.y, p.z);
+      fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{}\n"), i, s, p.x, p.y, p.z);
     }
-  w.flush();
+  });
 }
 
 void write_sources(const RunResult& r, AtomicFile& f) {
@@ -149,7 +149,7 @@ void write_particles(const RunResult& r, AtomicFile& f) {
   for (const ParticleFrame& fr : r.frames)
     write_rows(f, fr.pos.size(), [&](std::size_t i, fmt::memory_buffer& b) {
       const core::Vec3 p = canonical(fr.pos[i]);
-      fmt::format_to(std::back_inserter(b), "{},{},{},{},{}\n", fr.step, fr.cue[i], p.x, p.y, p.z);
+      fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{}\n"), fr.step, fr.cue[i], p.x, p.y, p.z);
     });
 }
 
@@ -190,8 +190,11 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
                          int threads, const std::vector<std::string>& warnings) {
   prepare_output_dir(dir);
   OutputInfo info;
-  auto emit = [&](const std::string& name, auto&& writer) {
-    AtomicFile f(dir, name);
+  // The data files are renamed into place with their write-back started but not awaited,
+  // so that the kernel writes one while the next is formatted; one sync waits for them all
+  // before the manifest names them.
+  auto emit = [&](const std::string& name, auto&& writer, AtomicFile::Sync sync = AtomicFile::Sync::kDeferred) {
+    AtomicFile f(dir, name, sync);
     writer(r, f);
     info.files.emplace_back(name, f.commit());
   };
@@ -207,8 +210,9 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   if (r.scene.output.vtk) write_vtk(r, dir, info);
   if (r.scene.output.swc) write_swc(r, dir, info);
   if (r.scene.output.sonata) write_sonata(r, dir, info);
+  sync_filesystem(dir);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  emit("timings.csv", write_timings);
+  emit("timings.csv", write_timings, AtomicFile::Sync::kFile);
 
   json manifest = manifest_header(r.scene, backend_name, threads, {});
   manifest["status"] = "complete";

@@ -299,16 +299,7 @@ int cmd_run(const RunArgs& args) {
                    name.c_str());
   for (const auto& w : job.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
   const Scene& scene = job.scene;
-  json running = manifest_header(scene, args.backend, threads, job.warnings);
-  running["status"] = "running";
-  running["planned"] = planned_outputs(scene);
-  // An old checkpoint goes before anything else: it must never be taken for this run's.
-  std::vector<std::string> replacing;
-  for (const auto& name : claim.replacing)
-    if (name == kCheckpointName) fs::remove(dir / name);
-    else replacing.push_back(name);
-  running["replacing"] = replacing;
-  running["files"] = json::object();
+  json running;
   if (resuming) {
     // What the killed run was replacing, if it was killed before it had removed it all.
     running = job.manifest;
@@ -320,9 +311,8 @@ int cmd_run(const RunArgs& args) {
     remove_run_files(dir, left);
   } else {
     // The running manifest first: from here on a kill leaves a folder whose manifest
-    // names every file in it.
-    write_manifest(dir, running);
-    remove_run_files(dir, replacing);
+    // names every file in it (shared with the Python module's Result.write).
+    running = start_fresh_run(dir, claim, scene, args.backend, threads, job.warnings);
   }
 
   StopSignals signals;
@@ -354,8 +344,7 @@ int cmd_run(const RunArgs& args) {
   } catch (...) {
     std::error_code ec;
     if (!resuming && !fs::exists(dir / kCheckpointName, ec)) {
-      remove_run_files(dir, planned_outputs(scene));
-      fs::remove(dir / kManifestName, ec);
+      abandon_fresh_run(dir, scene);
       cleanup.armed = made_dir;
     }
     throw;

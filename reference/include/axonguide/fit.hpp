@@ -26,6 +26,8 @@ struct DataPoint {
 // Reads DATA.csv: a header naming the columns concentration, steepness, bias, se, count
 // (any order; '#' lines are comments). InputError names the line of any bad row.
 std::vector<DataPoint> load_data(const std::string& path);
+// The same from the text of such a file; `origin` names it in messages.
+std::vector<DataPoint> parse_data(const std::string& text, const std::string& origin);
 
 struct Params {
   double gain, kd, scale;

@@ -74,6 +74,28 @@ void remove_run_files(const std::filesystem::path& dir, const std::vector<std::s
 // Removes the temporary files (".NAME.tmp-PID") of runs that were killed in DIR.
 void remove_stale_temporaries(const std::filesystem::path& dir);
 
+// A fresh run's start, after claim_run_folder, by the holder of DIR's lock: an old
+// checkpoint is removed first (it must never be taken for this run's), then the running
+// manifest (status "running", "planned": planned_outputs, "replacing": the claim's files)
+// is written, then the files it replaces are removed. Returns that manifest.
+nlohmann::json start_fresh_run(const std::filesystem::path& dir, const FolderClaim& claim, const Scene& scene,
+                               const std::string& backend, int threads, const std::vector<std::string>& warnings);
+
+// Takes back a fresh run that failed before its first checkpoint: its partial outputs and
+// its running manifest (the caller removes DIR when it made it and it is left empty).
+void abandon_fresh_run(const std::filesystem::path& dir, const Scene& scene);
+
+struct RunResult;
+struct OutputInfo;
+// Writes a finished run into DIR as `axonguide run --out DIR [--force]` does: creates DIR,
+// takes its lock, claims it (refused when it holds a run, unless force), start_fresh_run,
+// write_outputs; a failure takes the run back (abandon_fresh_run, and DIR when this made
+// it). `foreign` receives the files left in DIR that are not the run's. The bytes of
+// every file but timings.csv and the manifest's run facts are those of `axonguide run`.
+OutputInfo write_run_folder(const RunResult& result, const std::filesystem::path& dir, bool force,
+                            const std::string& backend, int threads, const std::vector<std::string>& warnings,
+                            std::vector<std::string>* foreign = nullptr);
+
 // The manifest's fields that describe the run (everything but status, files and
 // timings): version, build, scene, seed, units, backend, threads, created, warnings.
 nlohmann::json manifest_header(const Scene& scene, const std::string& backend, int threads,

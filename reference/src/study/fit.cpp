@@ -29,6 +29,13 @@ double exp_of(double x) { return core::pm::exp(x); }
 std::vector<DataPoint> load_data(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("fit: cannot read {}", path));
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_data(text.str(), path);
+}
+
+std::vector<DataPoint> parse_data(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
   std::string line;
   std::size_t n = 0;
   std::map<std::string, std::size_t> col;

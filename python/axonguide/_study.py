@@ -1,0 +1,213 @@
+"""Sweeps and the fit from Python (docs/methods.md §12, §13)."""
+
+import io
+import numbers
+import os
+import pathlib
+from collections.abc import Mapping
+
+import numpy as np
+
+from . import _core
+from ._errors import InputError
+from ._result import check_backend, check_threads
+from ._scene import Scene, as_scene, dumps
+
+
+def _column(values):
+    # A parameter's values: float64 when every one is a number, else an object array
+    # (case labels, arrays such as a position).
+    if all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in values):
+        return np.asarray(values, dtype=np.float64)
+    out = np.empty(len(values), dtype=object)
+    out[:] = values
+    return out
+
+
+def _table(d):
+    return {k: (v if isinstance(v, np.ndarray) else _column(v)) for k, v in d.items()}
+
+
+class SweepSpec:
+    """A sweep file (docs/methods.md §12.2) from a path, a dict or JSON text, validated as
+    `axonguide sweep` validates it (InputError). A relative "scene" path is read from the
+    sweep file's folder (for a dict or text: `folder`, by default the working directory)."""
+
+    __slots__ = ("_h",)
+
+    def __init__(self, source, folder=None):
+        if isinstance(source, SweepSpec):
+            self._h = source._h
+            return
+        folder = os.fspath(folder) if folder is not None else os.getcwd()
+        if isinstance(source, Mapping):
+            self._h = _core.sweep_spec_from_text(dumps(dict(source)), "<dict>", folder)
+        elif isinstance(source, str) and source.lstrip().startswith("{"):
+            self._h = _core.sweep_spec_from_text(source, "<string>", folder)
+        elif isinstance(source, (str, os.PathLike)):
+            path = os.fspath(source)
+            if not os.path.exists(path):
+                raise FileNotFoundError(2, "no such sweep file", path)
+            self._h = _core.sweep_spec_from_file(path)
+        else:
+            raise TypeError(f"SweepSpec(): a path, a dict or JSON text, not {type(source).__name__}")
+
+    @property
+    def member_count(self):
+        return self._h.member_count
+
+    @property
+    def point_count(self):
+        return self._h.point_count
+
+    @property
+    def seeds(self):
+        return list(self._h.seeds)
+
+    @property
+    def parameters(self):
+        """The parameter (column) names."""
+        return list(self._h.parameter_names)
+
+    def point_values(self, point):
+        return self._h.point_values(point)
+
+    def member_scene(self, member):
+        """Member m's scene: the base with its point's values and its seed (member m is point
+        m // len(seeds), seed seeds[m % len(seeds)])."""
+        return Scene.from_json(self._h.member_scene_json(member), f"member {member}")
+
+    def __repr__(self):
+        return (f"<axonguide.SweepSpec {self._h.origin}: {self.point_count} points x {len(self.seeds)} seeds"
+                f" = {self.member_count} members>")
+
+
+class SweepResult:
+    """records: sweep.csv's columns (member, point, one per parameter, seed, status,
+    exit_code, every assay metric, connections_sha256, message; and reused: a verified
+    record of an earlier sweep into `out` was kept), each a NumPy array (object arrays for
+    text). summary: summary.csv's columns (point, parameters, members, ok, failed, and
+    METRIC_mean, METRIC_ci_low, METRIC_ci_high: the two-sided 95 % Student-t interval over
+    the point's seeds). failed: members that failed (their metrics are NaN)."""
+
+    def __init__(self, spec, d, out):
+        self.spec = spec
+        self.records = _table(d["records"])
+        self.summary = _table(d["summary"])
+        self.failed = d["failed"]
+        self.reused = d["reused"]
+        self.threads = d["threads"]
+        self.out = out
+        self.metric_names = list(_core.metric_names())
+
+    def record(self, member):
+        """Member m's record as a dict of Python values."""
+        return {k: (v[member].item() if hasattr(v[member], "item") else v[member]) for k, v in self.records.items()}
+
+    def __len__(self):
+        return len(self.records["member"])
+
+    def __repr__(self):
+        return f"<axonguide.SweepResult {len(self)} members, {self.failed} failed>"
+
+
+def sweep(spec, out=None, threads=None, backend="reference"):
+    """Runs a sweep (docs/methods.md §12.2): spec is a SweepSpec or anything SweepSpec()
+    takes. With out, it is `axonguide sweep SPEC --out OUT` (sweep.csv, summary.csv,
+    sweep.json, members/: the same bytes; members already recorded and verified there are
+    reused); without, the members run in memory and nothing is written. The GIL is released
+    while the members run; the records do not depend on the thread count."""
+    s = spec if isinstance(spec, SweepSpec) else SweepSpec(spec)
+    out_path = None if out is None else pathlib.Path(os.fspath(out))
+    d = _core.sweep(s._h, None if out_path is None else str(out_path), check_threads(threads), check_backend(backend))
+    return SweepResult(s, d, out_path)
+
+
+class FitResult:
+    """The fit of `axonguide fit` (docs/methods.md §12.3): gain, kd, scale (1 unless fitted),
+    chi2, dof, chi2_per_dof, runs; per data point model, model_se, model_min, model_max,
+    reachable (within 2 se of the range the model produced); evaluations (gain, kd, scale,
+    chi2 per parameter set, and model, model_se per set and point, in the order evaluated);
+    data (the points read: concentration, steepness, bias, se, count, line)."""
+
+    def __init__(self, d):
+        self.__dict__.update(d)
+
+    def __repr__(self):
+        return (f"<axonguide.FitResult gain {self.gain:.4g}, K_d {self.kd:.4g}, scale {self.scale:.4g}: "
+                f"chi2/dof {self.chi2_per_dof:.3f} ({self.dof} dof)>")
+
+
+_DATA_COLUMNS = ("concentration", "steepness", "bias", "se", "count")
+
+
+def _data_text(data):
+    # A path (read as `axonguide fit DATA` reads it), a dict of columns, or rows (dicts or
+    # (concentration, steepness, bias, se, count) tuples): the CSV the command line reads.
+    if isinstance(data, (str, os.PathLike)):
+        path = os.fspath(data)
+        if not os.path.exists(path):
+            raise FileNotFoundError(2, "no such data file", path)
+        with open(path, "r", encoding="utf-8", errors="surrogateescape") as f:
+            return f.read(), path
+    if isinstance(data, Mapping):
+        missing = [c for c in _DATA_COLUMNS if c not in data]
+        if missing:
+            raise InputError(f"fit: data needs the columns {', '.join(_DATA_COLUMNS)} (missing {missing[0]!r})")
+        cols = [list(np.asarray(data[c]).tolist()) for c in _DATA_COLUMNS]
+        if len({len(c) for c in cols}) != 1:
+            raise InputError("fit: data columns must have the same length")
+        rows = list(zip(*cols))
+    else:
+        rows = []
+        for r in data:
+            if isinstance(r, Mapping):
+                r = tuple(r[c] for c in _DATA_COLUMNS)
+            rows.append(tuple(np.asarray(r).tolist()))
+    buf = io.StringIO()
+    buf.write(",".join(_DATA_COLUMNS) + "\n")
+    for r in rows:
+        if len(r) != 5:
+            raise InputError(f"fit: a data row has {len(r)} values, 5 are needed ({', '.join(_DATA_COLUMNS)})")
+        buf.write(",".join(repr(float(v)) if not isinstance(v, int) else str(v) for v in r) + "\n")
+    return buf.getvalue(), "<rows>"
+
+
+def _base_text(base):
+    # The base scene as written (a file's text, a dict's JSON), as `axonguide fit --scene` reads it.
+    if isinstance(base, Scene):
+        return base.to_json(None), base.origin
+    if isinstance(base, Mapping):
+        return dumps(dict(base)), "<dict>"
+    if isinstance(base, str) and base.lstrip().startswith("{"):
+        return base, "<string>"
+    if isinstance(base, (str, os.PathLike)):
+        path = os.fspath(base)
+        as_scene(path)  # FileNotFoundError, SceneError
+        with open(path, "r", encoding="utf-8", errors="surrogateescape") as f:
+            return f.read(), path
+    raise TypeError(f"fit(): the base scene is a Scene, dict, JSON text or path, not {type(base).__name__}")
+
+
+def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0, kd_min=None, kd_max=None,
+        grid=7, refine=2, threads=None, backend="reference"):
+    """`axonguide fit DATA --scene BASE` (docs/methods.md §12.3): fits the gain and K_d (and
+    with scale=True a scale on the nominal concentrations) to measured directional bias.
+    data: a CSV path (columns concentration, steepness, bias, se, count), a dict of those
+    columns, or rows. seeds: a count (seeds 1..N, as --seeds) or a list. grid and refine are
+    --grid and --refine; kd_min/kd_max bound the coarse K_d grid (None: from the data).
+    Returns a FitResult. The GIL is released while the model runs."""
+    base, origin = _base_text(base_scene)
+    text, data_origin = _data_text(data)
+    if isinstance(seeds, numbers.Integral) and not isinstance(seeds, bool):
+        if not 1 <= seeds <= 1000:
+            raise InputError(f"fit: seeds = {seeds}: must be a count in [1, 1000] or a list of seeds")
+        seed_list = list(range(1, int(seeds) + 1))
+    else:
+        seed_list = [int(s) for s in seeds]
+    d = _core.fit(base, origin, text, data_origin, check_threads(threads), seed_list, bool(scale), float(gain_min),
+                  float(gain_max), float(kd_min or 0.0), float(kd_max or 0.0), int(grid), int(refine),
+                  check_backend(backend))
+    d["evaluations"] = dict(d["evaluations"])
+    d["data"] = dict(d["data"])
+    return FitResult(d)

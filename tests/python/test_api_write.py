@@ -1,0 +1,67 @@
+"""Result.write gives the bytes of `axonguide run`, and owns its folder as the command does."""
+
+import json
+
+import pytest
+
+import axonguide
+from api_support import SMALL_CUE_SCENE, cli, file_hashes, manifest_without_run_facts
+
+
+@pytest.fixture(scope="module")
+def folders(tmp_path_factory):
+    d = tmp_path_factory.mktemp("write")
+    scene = d / "scene.json"
+    scene.write_text(json.dumps(SMALL_CUE_SCENE))
+    cli("run", scene, "--out", d / "cli", "--threads", 2, "-q")
+    r = axonguide.run(scene, threads=1)
+    assert r.write(d / "py") == d / "py"
+    return r, d / "py", d / "cli"
+
+
+def test_every_file_but_timings_has_the_commands_bytes(folders):
+    _, py, ref = folders
+    a, b = file_hashes(py), file_hashes(ref)
+    assert set(a) == set(b)
+    assert {"neurons.csv", "paths.csv", "particles.csv", "growth.pvd", "graph.graphml"} <= set(a)
+    assert any(name.startswith("vtk/") for name in a)
+    differ = sorted(k for k in a if a[k] != b[k])
+    assert differ == ["manifest.json", "timings.csv"]
+    # The manifests differ only in the run facts (threads 1 here, 2 there; times).
+    assert manifest_without_run_facts(py) == manifest_without_run_facts(ref)
+    m = json.loads((py / "manifest.json").read_text())
+    assert m["threads"] == 1 and m["backend"] == "reference" and m["status"] == "complete"
+
+
+def test_verify_and_assay_accept_the_folder(folders):
+    r, py, _ = folders
+    p = cli("verify", py)
+    assert "a whole run" in p.stdout
+    assert axonguide.verify(py)["whole"] is True
+    assert not (py / ".axonguide.lock").exists()
+
+
+def test_a_folder_holding_a_run_is_refused_without_force(folders, tmp_path):
+    r, _, _ = folders
+    out = tmp_path / "out"
+    r.write(out)
+    with pytest.raises(axonguide.InputError, match="--force|force"):
+        r.write(out)
+    (out / "notes.txt").write_text("mine")
+    r.write(out, force=True)
+    assert (out / "notes.txt").read_text() == "mine"
+    assert axonguide.verify(out)["whole"]
+    # A smaller run replaces exactly the files the old manifest listed.
+    small = axonguide.run({"neurons": {"count": 20}, "steps": 3})
+    small.write(out, force=True)
+    assert not (out / "paths.csv").exists() and not (out / "vtk").exists()
+    assert axonguide.verify(out)["whole"] and (out / "notes.txt").exists()
+
+
+def test_a_failed_write_takes_its_folder_back(folders, tmp_path):
+    r, _, _ = folders
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(axonguide.InputError):
+        r.write(blocker)  # not a directory
+    assert blocker.read_text() == "x"

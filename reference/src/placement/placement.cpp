@@ -54,11 +54,18 @@ namespace {
 // soma that can overlap a new one lies in the 27 cells around it.
 class OverlapIndex {
  public:
+  // Room for the n somas with ids [base, base + n); the block index is cleared and rebased
+  // for every block.
   OverlapIndex(std::size_t n, double cell) : cell_(cell), next_(n, kEmpty) {
     std::size_t buckets = 1;
     while (buckets < 2 * n) buckets <<= 1;
     head_.assign(buckets, kEmpty);
     mask_ = buckets - 1;
+  }
+  void clear(std::uint32_t base) {
+    for (std::uint32_t b : used_) head_[b] = kEmpty;
+    used_.clear();
+    base_ = base;
   }
 
   bool overlaps(const std::vector<Vec3>& pos, Vec3 p, double min_dist2) const {
@@ -66,14 +73,15 @@ class OverlapIndex {
     for (std::int64_t dz = -1; dz <= 1; ++dz)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
         for (std::int64_t dx = -1; dx <= 1; ++dx)
-          for (std::uint32_t j = head_[bucket(cx + dx, cy + dy, cz + dz)]; j != kEmpty; j = next_[j])
+          for (std::uint32_t j = head_[bucket(cx + dx, cy + dy, cz + dz)]; j != kEmpty; j = next_[j - base_])
             if (core::norm2(pos[j] - p) < min_dist2) return true;
     return false;
   }
 
   void insert(std::uint32_t id, Vec3 p) {
     std::size_t b = bucket(coord(p.x), coord(p.y), coord(p.z));
-    next_[id] = head_[b];
+    if (head_[b] == kEmpty) used_.push_back(static_cast<std::uint32_t>(b));
+    next_[id - base_] = head_[b];
     head_[b] = id;
   }
 
@@ -89,8 +97,9 @@ class OverlapIndex {
   }
 
   double cell_;
+  std::uint32_t base_ = 0;
   std::size_t mask_ = 0;
-  std::vector<std::uint32_t> head_, next_;
+  std::vector<std::uint32_t> head_, next_, used_;
 };
 
 // Random sequential addition cannot exceed these (3D close packing; hexagonal discs).
@@ -126,24 +135,48 @@ Placement place_neurons(const Scene& scene) {
         "neurons.soma_radius, enlarge neurons.region.radius, or set neurons.overlap to \"allow\"",
         phi, what, nn.count, nn.soma_radius, name_of(nn.shape), nn.radius, limit));
 
-  const double min_dist = 2.0 * nn.soma_radius;
+  // Random sequential addition in id order: attempt k of soma i is rejected when it
+  // overlaps any earlier soma's final position. The pass runs in blocks of ids with the
+  // same result. For a block [a, b), every soma first draws, in parallel, until an attempt
+  // clears the somas before a (which are final, so each rejection there is one the
+  // sequential pass makes too); then, in id order, the attempt found is checked against
+  // the block's earlier somas only, and only a soma that meets one draws on, against both.
+  const double min_dist = 2.0 * nn.soma_radius, min_dist2 = min_dist * min_dist;
   OverlapIndex index(n, min_dist);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t attempt = 0;
-    while (index.overlaps(out.soma, out.soma[i], min_dist * min_dist)) {
-      if (++attempt >= nn.max_attempts)
-        throw RunError(fmt::format(
-            "placement failed: neuron {} still overlaps an earlier soma after {} attempts; "
-            "packing fraction {:.4f} ({} fraction of {} somas of radius {} in a {} of radius {}; "
-            "random sequential addition jams near {}); reduce neurons.count or "
-            "neurons.soma_radius, enlarge neurons.region.radius, raise neurons.max_attempts, or "
-            "set neurons.overlap to \"allow\"",
-            i, nn.max_attempts, phi, what, nn.count, nn.soma_radius, name_of(nn.shape), nn.radius,
-            nn.shape == RegionShape::kSphere ? "0.547" : "0.38"));
-      out.soma[i] = soma_draw(scene, i, attempt);
-      ++out.redraws;
+  constexpr std::size_t kBlock = 4096;
+  OverlapIndex local(kBlock, min_dist);
+  std::vector<std::uint32_t> attempts(kBlock);
+  auto fail = [&](std::size_t i) {
+    throw RunError(fmt::format(
+        "placement failed: neuron {} still overlaps an earlier soma after {} attempts; "
+        "packing fraction {:.4f} ({} fraction of {} somas of radius {} in a {} of radius {}; "
+        "random sequential addition jams near {}); reduce neurons.count or "
+        "neurons.soma_radius, enlarge neurons.region.radius, raise neurons.max_attempts, or "
+        "set neurons.overlap to \"allow\"",
+        i, nn.max_attempts, phi, what, nn.count, nn.soma_radius, name_of(nn.shape), nn.radius,
+        nn.shape == RegionShape::kSphere ? "0.547" : "0.38"));
+  };
+  for (std::size_t a = 0; a < n; a += kBlock) {
+    const std::size_t b = std::min(n, a + kBlock);
+    tbb::parallel_for(a, b, [&](std::size_t i) {
+      std::uint32_t attempt = 0;
+      while (attempt < nn.max_attempts && index.overlaps(out.soma, out.soma[i], min_dist2))
+        if (++attempt < nn.max_attempts) out.soma[i] = soma_draw(scene, i, attempt);
+      attempts[i - a] = attempt;  // max_attempts: none cleared the earlier blocks
+    });
+    local.clear(static_cast<std::uint32_t>(a));
+    for (std::size_t i = a; i < b; ++i) {
+      std::uint32_t attempt = attempts[i - a];
+      if (attempt >= nn.max_attempts) fail(i);
+      while (local.overlaps(out.soma, out.soma[i], min_dist2) ||
+             (attempt != attempts[i - a] && index.overlaps(out.soma, out.soma[i], min_dist2))) {
+        if (++attempt >= nn.max_attempts) fail(i);
+        out.soma[i] = soma_draw(scene, i, attempt);
+      }
+      out.redraws += attempt;
+      local.insert(static_cast<std::uint32_t>(i), out.soma[i]);
     }
-    index.insert(static_cast<std::uint32_t>(i), out.soma[i]);
+    for (std::size_t i = a; i < b; ++i) index.insert(static_cast<std::uint32_t>(i), out.soma[i]);
   }
   return out;
 }

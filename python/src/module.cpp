@@ -9,6 +9,8 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "axonguide/accel/backend.hpp"
 #include "axonguide/accel/engines.hpp"
@@ -117,10 +119,16 @@ py::array_t<NeuronRow> neurons_array(const RunResult& r) {
   const NeuronState& n = r.neurons;
   py::array_t<NeuronRow> a(static_cast<py::ssize_t>(n.size()));
   NeuronRow* out = a.mutable_data();
-  for (std::size_t i = 0; i < n.size(); ++i)
-    out[i] = {static_cast<std::uint32_t>(i), r.soma[i].x, r.soma[i].y, r.soma[i].z, r.scene.neurons.soma_radius,
-              static_cast<std::uint8_t>(n.status[i]), n.tip[i].x, n.tip[i].y, n.tip[i].z, n.length[i], n.steps[i],
-              signed_id(n.target[i])};
+  const double radius = r.scene.neurons.soma_radius;
+  {
+    py::gil_scoped_release release;  // 10^6 rows: 0.2 s on one core, most of it first touches of pages
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& b) {
+      for (std::size_t i = b.begin(); i != b.end(); ++i)
+        out[i] = {static_cast<std::uint32_t>(i), r.soma[i].x, r.soma[i].y, r.soma[i].z, radius,
+                  static_cast<std::uint8_t>(n.status[i]), n.tip[i].x, n.tip[i].y, n.tip[i].z, n.length[i], n.steps[i],
+                  signed_id(n.target[i])};
+    });
+  }
   return a;
 }
 
@@ -166,8 +174,11 @@ py::object paths_array(const RunResult& r) {
   const std::size_t n = r.neurons.size();
   py::array_t<double> a({static_cast<py::ssize_t>(r.paths.size()), static_cast<py::ssize_t>(n), py::ssize_t{3}});
   double* out = a.mutable_data();
-  for (std::size_t s = 0; s < r.paths.size(); ++s)
-    std::memcpy(out + s * n * 3, r.paths[s].data(), n * sizeof(core::Vec3));
+  {
+    py::gil_scoped_release release;
+    tbb::parallel_for(std::size_t{0}, r.paths.size(),
+                      [&](std::size_t s) { std::memcpy(out + s * n * 3, r.paths[s].data(), n * sizeof(core::Vec3)); });
+  }
   return a;
 }
 

@@ -205,3 +205,20 @@ def test_ctrl_c_ends_the_run_at_the_end_of_a_step():
         timer.cancel()
         timer.join()
     assert time.perf_counter() - t0 < 2.5
+
+
+def test_the_emulated_accelerator_gives_the_same_arrays(small):
+    r, _ = small
+    e = axonguide.run(SMALL_CUE_SCENE, backend="emulated")
+    assert e.backend == "emulated"
+    for name in ("neurons", "connections", "step_stats", "sources"):
+        assert same_structured(getattr(e, name), getattr(r, name)), name
+    assert same(e.paths, r.paths)
+
+
+def test_cuda_is_refused_where_it_cannot_run():
+    reason = axonguide.cuda_unavailable_reason()
+    if not reason:
+        pytest.skip("the CUDA engine can run here")
+    with pytest.raises((axonguide.InputError, axonguide.RunError)):
+        axonguide.run({"neurons": {"count": 10}, "steps": 2}, backend="cuda")

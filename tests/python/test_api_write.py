@@ -12,7 +12,10 @@ from api_support import SMALL_CUE_SCENE, cli, file_hashes, manifest_without_run_
 def folders(tmp_path_factory):
     d = tmp_path_factory.mktemp("write")
     scene = d / "scene.json"
-    scene.write_text(json.dumps(SMALL_CUE_SCENE))
+    # Every kind of output: CSV, GraphML, VTK frames, SWC morphologies, SONATA network/.
+    full = json.loads(json.dumps(SMALL_CUE_SCENE))
+    full["output"].update({"swc": True, "sonata": True})
+    scene.write_text(json.dumps(full))
     cli("run", scene, "--out", d / "cli", "--threads", 2, "-q")
     r = axonguide.run(scene, threads=1)
     assert r.write(d / "py") == d / "py"
@@ -25,6 +28,9 @@ def test_every_file_but_timings_has_the_commands_bytes(folders):
     assert set(a) == set(b)
     assert {"neurons.csv", "paths.csv", "particles.csv", "growth.pvd", "graph.graphml"} <= set(a)
     assert any(name.startswith("vtk/") for name in a)
+    assert any(name.startswith("morphologies/") for name in a) and "network/nodes.h5" in a
+    ma, mb = (json.loads((f / "manifest.json").read_text())["axonguide"]["commit"] for f in (py, ref))
+    assert ma == mb, "the module and the command come from different builds: build both"
     differ = sorted(k for k in a if a[k] != b[k])
     assert differ == ["manifest.json", "timings.csv"]
     # The manifests differ only in the run facts (threads 1 here, 2 there; times).

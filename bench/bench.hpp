@@ -68,6 +68,7 @@ Scene paper_direct_scene(std::uint64_t neurons);
 struct ChildRun {
   double seconds = 0;
   double peak_bytes = 0;
+  double output_seconds = 0;  // the manifest's "output" phase (writing every file)
   int status = -1;
 };
 ChildRun run_child(const Scene& scene, int threads, const std::string& backend);

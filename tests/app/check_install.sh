@@ -23,8 +23,19 @@ grep -q 'data:text/javascript;base64,' run/view.html || { echo "view.html has no
 "$exe" plot run > /dev/null
 [ -s run/growth.png ] || { echo "plot wrote no growth.png"; exit 1; }
 "$exe" golden check > /dev/null
+# The Python package, when the build made it: imported from the prefix, away from the
+# build tree, and run.
+if [ -d "$build/python/axonguide" ]; then
+  PYTHONPATH="$tmp/p/lib/python3/dist-packages" /usr/bin/python3 - "$tmp/p" "$data" <<'PY'
+import sys, axonguide
+prefix, data = sys.argv[1], sys.argv[2]
+assert axonguide.__file__.startswith(prefix), axonguide.__file__
+r = axonguide.run(data + "/scenes/paper-direct-100.json", threads=1)
+assert len(r.neurons) == 100, len(r.neurons)
+PY
+fi
 # A copy of the binary alone: no share/ beside it, and no source tree to fall back to.
 mkdir bare && cp "$exe" bare/
 AXG_SOURCE_DIR=/nonexistent bare/axonguide view run > /dev/null
 AXG_SOURCE_DIR=/nonexistent bare/axonguide plot run > /dev/null
-echo "installed and relocated command: data from share/axonguide, run, verify, view, plot, golden check: ok"
+echo "installed and relocated command: data from share/axonguide, run, verify, view, plot, golden check, Python package: ok"

@@ -165,8 +165,57 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{R"({"units": {"time": "day"}})", R"(units.time = "day")"},
         Bad{R"({"units": {"concentration": "mM"}})", R"(units.concentration = "mM")"},
         Bad{R"({"units": {"mass": "kg"}})", "unknown key units.mass"},
-        Bad{R"({"units": "um"})", "units"}),
+        Bad{R"({"units": "um"})", "units"},
+        Bad{R"({"output": {"graphml": "yes"}})", R"(output.graphml = "yes": must be true, false or null)"},
+        Bad{R"({"output": {"conduction_speed": 0}})", "output.conduction_speed = 0: must be > 0"},
+        Bad{R"({"output": {"swc": 1}})", "output.swc = 1: must be true or false"},
+        Bad{R"({"output": {"sonata": null}})", "output.sonata = null: must be true or false"}),
     [](const auto& info) { return std::to_string(info.index); });
+
+// The output keys added with SWC and SONATA: read, and in the canonical form only when set,
+// so that every scene written before them keeps its canonical form (and its hash).
+TEST(scene, FormatKeysAppearInTheCanonicalFormOnlyWhenSet) {
+  const nlohmann::json plain = scene_to_json(parse_scene("{}", "scene.json").scene);
+  for (const char* key : {"swc", "sonata", "graphml", "conduction_speed"}) EXPECT_FALSE(plain["output"].contains(key));
+  const ParseResult set = parse_scene(
+      R"({"output": {"swc": true, "sonata": true, "graphml": false, "conduction_speed": 2}})", "scene.json");
+  const Scene& s = set.scene;
+  EXPECT_TRUE(s.output.swc && s.output.sonata && s.output.paths);  // swc turns paths on
+  EXPECT_FALSE(s.writes_graphml());
+  EXPECT_EQ(s.output.conduction_m_per_s(), 2.0);
+  const nlohmann::json canonical = scene_to_json(s);
+  EXPECT_EQ(canonical["output"]["graphml"], false);
+  EXPECT_EQ(scene_to_json(parse_scene(canonical.dump(), "again").scene), canonical);
+  ASSERT_EQ(set.warnings.size(), 1u);
+  EXPECT_NE(set.warnings[0].find("output.swc"), std::string::npos);
+  // null: GraphML up to the limit, not above it.
+  Scene big;
+  big.neurons.count = Scene::kGraphmlAutoLimit;
+  EXPECT_TRUE(big.writes_graphml());
+  big.neurons.count += 1;
+  EXPECT_FALSE(big.writes_graphml());
+  big.output.graphml = true;
+  EXPECT_TRUE(big.writes_graphml());
+}
+
+// A scene error names its parts for the Python module's SceneError.
+TEST(scene, InputErrorCarriesKeyValueAndAllowed) {
+  try {
+    parse_scene(R"({"neurons": {"count": -1}})", "scene.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "neurons.count");
+    EXPECT_EQ(e.value(), "-1");
+    EXPECT_NE(e.allowed().find("integer"), std::string::npos);
+  }
+  try {
+    parse_scene(R"({"output": {"colour": 1}})", "scene.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "output.colour");
+    EXPECT_NE(e.allowed().find("sonata"), std::string::npos);
+  }
+}
 
 // The message of the InputError that parse_scene throws for `text` ("" when it accepts it).
 std::string refusal(const std::string& text) {

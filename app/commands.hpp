@@ -1,4 +1,5 @@
 #pragma once
+#include <exception>
 // The subcommands of `axonguide` (SPEC §6). Each returns the process exit code.
 #include <string>
 #include <vector>
@@ -66,6 +67,10 @@ struct SweepArgs {
   bool quiet = false;
 };
 int cmd_sweep(const SweepArgs& args);
+
+// Prints the one line a failed command prints (main's, and rank 0's under mpirun, which
+// must print before MPI_Finalize lets the other ranks exit) and returns its exit code.
+int report_error(std::exception_ptr error);
 
 struct FitArgs {
   std::string data_path, scene_path, out_dir;

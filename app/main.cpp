@@ -174,9 +174,11 @@ int dispatch(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace axg::app {
+
+int report_error(std::exception_ptr error) {
   try {
-    return dispatch(argc, argv);
+    std::rethrow_exception(error);
   } catch (const axg::InputError& e) {
     std::fprintf(stderr, "axonguide: error: %s\n", e.what());
     return axg::kExitBadInput;
@@ -189,5 +191,15 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "axonguide: cannot run: %s\n", e.what());
     return axg::kExitCannotRun;
+  }
+}
+
+}  // namespace axg::app
+
+int main(int argc, char** argv) {
+  try {
+    return dispatch(argc, argv);
+  } catch (...) {
+    return axg::app::report_error(std::current_exception());
   }
 }

@@ -13,6 +13,7 @@
 
 #include "axonguide/checkpoint.hpp"
 #include "axonguide/cue_setup.hpp"
+#include "axonguide/distributed/launch.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
@@ -230,6 +231,17 @@ Job resume_job(const RunArgs& args, const fs::path& dir) {
 
 int cmd_run(const RunArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
+  // One network decomposed over ranks is not built: K copies of one run into one folder
+  // would only fight over it. Rank 0 says so; the others exit after giving it time to.
+  if (const distributed::Launch launch = distributed::detect_launch(); launch.under_mpirun()) {
+    if (launch.rank != 0) {
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      return kExitCannotRun;
+    }
+    throw RunError(fmt::format("started as one of {} ranks by mpirun: a run decomposed over ranks is not built yet "
+                               "(only sweeps run over ranks); run it without mpirun, or with -np 1",
+                               launch.size));
+  }
   const bool resuming = !args.resume.empty();
   const fs::path dir = resuming ? fs::path(args.resume) : fs::path(args.out_dir);
   if (resuming) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -13,6 +14,10 @@
 
 #include "axonguide/assay.hpp"
 #include "axonguide/csv.hpp"
+#include "axonguide/distributed/launch.hpp"
+#ifdef AXG_HAVE_MPI
+#include "axonguide/distributed/mpi_sweep.hpp"
+#endif
 #include "axonguide/error.hpp"
 #include "axonguide/fit.hpp"
 #include "axonguide/core/pmath.hpp"
@@ -144,11 +149,38 @@ int cmd_assay(const std::string& dir_name) {
   return kExitOk;
 }
 
+namespace {
+
+// MPI_Init and MPI_Finalize around the sweep, on every rank; finalize() skips the wait
+// for a rank that died.
+struct MpiSession {
+#ifdef AXG_HAVE_MPI
+  MpiSession() { distributed::init(nullptr, nullptr); }
+  ~MpiSession() { distributed::finalize(rank_died, exit_code); }
+#endif
+  bool rank_died = false;
+  int exit_code = 0;
+};
+
+}  // namespace
+
 int cmd_sweep(const SweepArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
-  const sweep::Spec spec = sweep::load_spec(args.spec_path);
+  const distributed::Launch launch = distributed::detect_launch();
+  const bool over_ranks = launch.under_mpirun() && distributed::have_mpi();
+  if (launch.under_mpirun() && !over_ranks) {
+    // K copies of a build without MPI: one runs the sweep, the others must not write it.
+    if (launch.rank != 0) return kExitOk;
+    std::fprintf(stderr,
+                 "axonguide: note: started as rank 0 of %d by mpirun, but this build has no MPI (install "
+                 "libopenmpi-dev and rebuild): the sweep runs in this one process; ranks 1-%d exit\n",
+                 launch.size, launch.size - 1);
+  }
   sweep::Options options;
-  options.threads = resolve_threads(args.threads);
+  // Under mpirun the ranks on a node share its cores: each runs its member on its share.
+  const int cores = resolve_threads(0);
+  options.threads =
+      args.threads > 0 ? args.threads : over_ranks ? std::max(1, cores / std::max(1, launch.local_size)) : cores;
   options.run.make_engine = engine_factory(args.backend);
   options.backend = args.backend;
   const bool tty = ::isatty(STDERR_FILENO) == 1 && !args.quiet;
@@ -164,11 +196,38 @@ int cmd_sweep(const SweepArgs& args) {
     if (done == total) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   };
-  const sweep::Outcome out = sweep::run(spec, args.out_dir, options);
+  sweep::Outcome out;
+  std::optional<sweep::Spec> spec;
+  std::optional<MpiSession> session;
+  if (over_ranks) {
+#ifdef AXG_HAVE_MPI
+    session.emplace();
+    int code = kExitOk;
+    distributed::SweepOverRanks r;
+    try {
+      r = distributed::run_sweep_over_ranks(args.spec_path, args.out_dir, options, &code);
+    } catch (...) {
+      // Rank 0's message goes out before MPI_Finalize lets the other ranks exit (mpirun
+      // would end the job, rank 0 with it, at the first non-zero exit).
+      session->exit_code = report_error(std::current_exception());
+      return session->exit_code;
+    }
+    session->rank_died = r.dead_ranks > 0;
+    if (!r.is_root) return session->exit_code = code;
+    out = std::move(r.outcome);
+    spec = sweep::load_spec(args.spec_path);
+#endif
+  } else {
+    spec = sweep::load_spec(args.spec_path);
+    out = sweep::run(*spec, args.out_dir, options);
+  }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!args.quiet) {
-    fmt::print("sweep     {}: {} points x {} seeds = {} members on {} threads\n", args.spec_path,
-               sweep::point_count(spec), spec.seeds.size(), out.members.size(), options.threads);
+    const std::string where = over_ranks ? fmt::format("{} ranks ({} running members, {} threads each)", launch.size,
+                                                       launch.size - 1, options.threads)
+                                         : fmt::format("{} threads", options.threads);
+    fmt::print("sweep     {}: {} points x {} seeds = {} members on {}\n", args.spec_path,
+               sweep::point_count(*spec), spec->seeds.size(), out.members.size(), where);
     fmt::print("          ran {}, reused {} verified records, failed {}; {:.2f} s\n",
                out.members.size() - out.skipped, out.skipped, out.failed, wall);
     for (const auto& r : out.members)
@@ -176,7 +235,9 @@ int cmd_sweep(const SweepArgs& args) {
         fmt::print("          member {} failed (exit {}): {}\n", r.member, r.exit_code, r.message);
     fmt::print("outputs   {}/sweep.csv, summary.csv, sweep.json, members/\n", args.out_dir);
   }
-  return out.failed > 0 ? kExitCheckFailed : kExitOk;
+  const int code = out.failed > 0 ? kExitCheckFailed : kExitOk;
+  if (session) session->exit_code = code;
+  return code;
 }
 
 }  // namespace axg::app

@@ -13,6 +13,8 @@ packages=(
   # read our files with: h5py, PyNN (SONATA), NEURON (SWC through Import3d), networkx
   libhdf5-dev python3-dev python3-pybind11 python3-numpy python3-pytest
   python3-h5py python3-pynn python3-neuron python3-networkx
+  # sweeps over MPI ranks: Open MPI
+  libopenmpi-dev openmpi-bin
   # the viewer's tests: VTK's reader for the ParaView files, headless Chromium for the page
   python3-vtk9 chromium
   # the fuzzers (fuzz/): clang, and libFuzzer with the sanitizers' runtimes (only a

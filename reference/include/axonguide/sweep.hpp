@@ -65,10 +65,17 @@ struct MemberResult {
 MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& options,
                         const std::filesystem::path& run_dir = {}, const std::string& backend = "reference");
 
+// Runs the members `pending` (in any order, anywhere) and hands each one's result to
+// `record`, one call at a time. The default is a TBB loop on Options::threads threads; the
+// MPI build hands the members to ranks (distributed/mpi_sweep.cpp).
+using Record = std::function<void(MemberResult)>;
+using Executor = std::function<void(const std::vector<std::size_t>& pending, const Record& record)>;
+
 struct Options {
   int threads = 0;
   RunOptions run;  // the backend's engine
   std::string backend = "reference";
+  Executor execute;  // empty: the TBB loop
   // Called after each member completes (from worker threads, serialised).
   std::function<void(std::size_t done, std::size_t total, std::size_t failed, std::size_t skipped)> on_member;
 };
@@ -81,6 +88,12 @@ struct Outcome {
 // Runs every member not already recorded and verified in dir/members/, then writes
 // dir/sweep.csv, dir/summary.csv and dir/sweep.json (the canonical sweep).
 Outcome run(const Spec& spec, const std::filesystem::path& dir, const Options& options);
+
+// A member's record (dir/members/mNNNNNNN.json without its record_sha256), and the result
+// it holds: the two round-trip exactly (metrics as shortest round-trip doubles, NaN as
+// null), which is how results cross between MPI ranks.
+nlohmann::json record_json(const MemberResult& r, std::uint64_t seed);
+MemberResult result_from_record(const nlohmann::json& record);
 
 // The record file of a member, and whether a record is complete and verified for it.
 std::filesystem::path record_path(const std::filesystem::path& dir, std::size_t member);

@@ -15,6 +15,7 @@
 #include "axonguide/assay.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/fault.hpp"
 #include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/version.hpp"
@@ -127,16 +128,6 @@ std::string csv_quote(const std::string& s) {
 
 std::string value_text(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
-json record_json(const MemberResult& r, std::uint64_t seed) {
-  json metrics = json::object();
-  for (const auto& [name, value] : r.metrics) metrics[name] = std::isfinite(value) ? json(value) : json(nullptr);
-  json j = {{"member", r.member},         {"seed", seed},
-            {"version", kVersion},        {"scene_sha256", r.scene_sha256},
-            {"status", r.ok ? "ok" : "failed"}, {"exit_code", r.exit_code},
-            {"message", r.message},       {"metrics", metrics},
-            {"connections_sha256", r.connections_sha256}};
-  return j;
-}
 
 bool run_folder_verifies(const fs::path& dir) {
   std::ifstream in(dir / "manifest.json");
@@ -304,6 +295,7 @@ json member_scene_json(const Spec& spec, std::size_t member) {
 
 MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& options, const fs::path& run_dir,
                         const std::string& backend) {
+  fault_point(fmt::format("sweep member {}", member));
   MemberResult r;
   r.member = member;
   try {
@@ -334,6 +326,32 @@ MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& 
   return r;
 }
 
+json record_json(const MemberResult& r, std::uint64_t seed) {
+  json metrics = json::object();
+  for (const auto& [name, value] : r.metrics) metrics[name] = std::isfinite(value) ? json(value) : json(nullptr);
+  json j = {{"member", r.member},         {"seed", seed},
+            {"version", kVersion},        {"scene_sha256", r.scene_sha256},
+            {"status", r.ok ? "ok" : "failed"}, {"exit_code", r.exit_code},
+            {"message", r.message},       {"metrics", metrics},
+            {"connections_sha256", r.connections_sha256}};
+  return j;
+}
+
+MemberResult result_from_record(const json& j) {
+  MemberResult r;
+  r.member = j.at("member").get<std::size_t>();
+  r.ok = j.at("status") == "ok";
+  r.exit_code = j.at("exit_code").get<int>();
+  r.message = j.at("message").get<std::string>();
+  r.scene_sha256 = j.at("scene_sha256").get<std::string>();
+  r.connections_sha256 = j.at("connections_sha256").get<std::string>();
+  for (const auto& name : assay::scalar_metric_names()) {
+    const json& v = j.at("metrics").at(name);
+    r.metrics.emplace_back(name, v.is_null() ? kNaN : v.get<double>());
+  }
+  return r;
+}
+
 fs::path record_path(const fs::path& dir, std::size_t member) {
   return dir / "members" / fmt::format("m{:07d}.json", member);
 }
@@ -350,16 +368,8 @@ std::optional<MemberResult> read_verified_record(const Spec& spec, const fs::pat
     const ParseResult parsed = parse_scene(member_scene_json(spec, member).dump(), "member");
     if (j.at("scene_sha256") != sha256_hex(scene_to_json(parsed.scene).dump())) return std::nullopt;
     if (spec.write_runs && !run_folder_verifies(dir / "members" / fmt::format("m{:07d}", member))) return std::nullopt;
-    MemberResult r;
-    r.member = member;
-    r.ok = true;
+    MemberResult r = result_from_record(j);
     r.skipped = true;
-    r.scene_sha256 = j["scene_sha256"];
-    r.connections_sha256 = j["connections_sha256"];
-    for (const auto& name : assay::scalar_metric_names()) {
-      const json& v = j.at("metrics").at(name);
-      r.metrics.emplace_back(name, v.is_null() ? kNaN : v.get<double>());
-    }
     return r;
   } catch (const std::exception&) {
     return std::nullopt;
@@ -433,28 +443,36 @@ Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
   std::mutex mu;
   std::size_t done = out.skipped, failed = 0;
   if (options.on_member) options.on_member(done, total, failed, out.skipped);
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, pending.size(), 1),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          for (std::size_t k = range.begin(); k != range.end(); ++k) {
-            const std::size_t m = pending[k];
-            const fs::path run_dir =
-                spec.write_runs ? dir / "members" / fmt::format("m{:07d}", m) : fs::path();
-            MemberResult r = run_member(spec, m, options.run, run_dir, options.backend);
-            json rec = record_json(r, spec.seeds[m % spec.seeds.size()]);
-            rec["record_sha256"] = sha256_hex(rec.dump());
-            write_file_atomically(dir / "members", record_path(dir, m).filename().string(), rec.dump(1) + "\n");
-            std::lock_guard<std::mutex> lock(mu);
-            out.members[m] = std::move(r);
-            ++done;
-            if (!out.members[m].ok) ++failed;
-            if (options.on_member) options.on_member(done, total, failed, out.skipped);
-          }
-        },
-        tbb::simple_partitioner());
-  });
+  // Each result is recorded as it arrives, so that a sweep stopped at any point keeps
+  // every member it finished.
+  const Record record = [&](MemberResult r) {
+    const std::size_t m = r.member;
+    json rec = record_json(r, spec.seeds[m % spec.seeds.size()]);
+    rec["record_sha256"] = sha256_hex(rec.dump());
+    write_file_atomically(dir / "members", record_path(dir, m).filename().string(), rec.dump(1) + "\n");
+    std::lock_guard<std::mutex> lock(mu);
+    out.members[m] = std::move(r);
+    ++done;
+    if (!out.members[m].ok) ++failed;
+    if (options.on_member) options.on_member(done, total, failed, out.skipped);
+  };
+  if (options.execute) {
+    options.execute(pending, record);
+  } else {
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, pending.size(), 1),
+          [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t k = range.begin(); k != range.end(); ++k) {
+              const std::size_t m = pending[k];
+              const fs::path run_dir = spec.write_runs ? dir / "members" / fmt::format("m{:07d}", m) : fs::path();
+              record(run_member(spec, m, options.run, run_dir, options.backend));
+            }
+          },
+          tbb::simple_partitioner());
+    });
+  }
   out.failed = failed;
 
   // Gather, in member order.

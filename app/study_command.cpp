@@ -215,7 +215,7 @@ int cmd_sweep(const SweepArgs& args) {
     session->rank_died = r.dead_ranks > 0;
     if (!r.is_root) return session->exit_code = code;
     out = std::move(r.outcome);
-    spec = sweep::load_spec(args.spec_path);
+    spec = std::move(r.spec);
 #endif
   } else {
     spec = sweep::load_spec(args.spec_path);

@@ -200,8 +200,9 @@ SweepOverRanks run_sweep_over_ranks(const std::string& spec_path, const std::str
     throw RunError(fmt::format("sweep: another rank could not read {} (exit {}); every rank must see the same file",
                                spec_path, worst));
   }
+  out.spec = *spec;
   if (rank != 0) {
-    *exit_code = work(*spec, fs::path(out_dir), options, &out.dead_ranks);
+    *exit_code = work(out.spec, fs::path(out_dir), options, &out.dead_ranks);
     return out;
   }
   Scheduler scheduler(size, dead_after_seconds());
@@ -210,7 +211,7 @@ SweepOverRanks run_sweep_over_ranks(const std::string& spec_path, const std::str
     scheduler.run(pending, record);
   };
   try {
-    out.outcome = sweep::run(*spec, out_dir, root);
+    out.outcome = sweep::run(out.spec, out_dir, root);
     scheduler.stop_all(out.outcome.failed > 0 ? kExitCheckFailed : kExitOk);
   } catch (const InputError&) {
     scheduler.stop_all(kExitBadInput);

@@ -31,6 +31,9 @@ using core::Sampler;
 // Physical units a scene may declare (SPEC §3.3). They name what the numbers mean; the
 // model is the same in any consistent set. Without them: length units (LU), steps, and
 // concentration units (CU: amount per LU^3).
+// The report's length unit read as micrometres: its soma radius 0.25 LU as 10 um.
+inline constexpr double kMicrometresPerLu = 40.0;
+
 struct Units {
   std::string length = "LU";         // "LU" or "um"
   std::string time = "step";         // "step", "s", "min" or "h"
@@ -38,13 +41,14 @@ struct Units {
   bool declared() const { return length != "LU" || time != "step" || concentration != "CU"; }
   // "length um, time min, concentration nM"
   std::string describe() const;
+  // Micrometres per length unit, for the formats that fix micrometres (SWC, SONATA).
+  double micrometres() const { return length == "um" ? 1.0 : kMicrometresPerLu; }
 };
 
 // Katz 1985 (J Neurosci 5:589): axons in culture hold a nearly constant orientation over
 // hundreds of micrometres. Default persistence length in um, and in LU with the report's
-// soma radius 0.25 LU read as 10 um (1 LU = 40 um).
+// soma radius 0.25 LU read as 10 um (kMicrometresPerLu).
 inline constexpr double kDefaultPersistenceUm = 250.0;
-inline constexpr double kMicrometresPerLu = 40.0;
 
 struct Source {
   CueKind kind = CueKind::kAttractant;

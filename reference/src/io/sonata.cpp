@@ -227,12 +227,9 @@ std::vector<std::uint64_t> iota64(std::size_t n) {
   return v;
 }
 
-// Micrometres per length unit of the scene: 40 µm per LU (kMicrometresPerLu), 1 for "um".
-double micrometres_per_unit(const Scene& s) { return s.units.length == "um" ? 1.0 : kMicrometresPerLu; }
-
 void write_nodes(const RunResult& r, const fs::path& dir) {
   const std::size_t n = r.neurons.size();
-  const double um = micrometres_per_unit(r.scene);
+  const double um = r.scene.units.micrometres();
   H5Output f(dir, "nodes.h5");
   Handle nodes = group(f, "nodes");
   Handle pop = group(nodes, kNodePopulation);
@@ -301,7 +298,7 @@ void edge_index(hid_t indices, const char* name, const std::vector<std::uint32_t
 
 void write_edges(const RunResult& r, const fs::path& dir) {
   const auto& nr = r.neurons;
-  const double um = micrometres_per_unit(r.scene);
+  const double um = r.scene.units.micrometres();
   const double speed = r.scene.output.conduction_m_per_s();  // m/s = mm/ms = 1000 µm/ms
   std::vector<std::uint32_t> source, target;
   for (std::size_t i = 0; i < nr.size(); ++i)

@@ -14,12 +14,8 @@ namespace axg {
 
 namespace fs = std::filesystem;
 
-namespace {
-double micrometres_per_unit(const Scene& s) { return s.units.length == "um" ? 1.0 : kMicrometresPerLu; }
-}  // namespace
-
 std::string swc_text(const RunResult& r, std::size_t i) {
-  const double um = micrometres_per_unit(r.scene);
+  const double um = r.scene.units.micrometres();
   fmt::memory_buffer b;
   auto out = std::back_inserter(b);
   fmt::format_to(out, "# axonguide neuron {} ({}): soma, then the axon's tip after each step; micrometres\n", i,

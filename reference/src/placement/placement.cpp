@@ -63,8 +63,7 @@ class OverlapIndex {
     mask_ = buckets - 1;
   }
   void clear(std::uint32_t base) {
-    for (std::uint32_t b : used_) head_[b] = kEmpty;
-    used_.clear();
+    std::fill(head_.begin(), head_.end(), kEmpty);
     base_ = base;
   }
 
@@ -80,7 +79,6 @@ class OverlapIndex {
 
   void insert(std::uint32_t id, Vec3 p) {
     std::size_t b = bucket(coord(p.x), coord(p.y), coord(p.z));
-    if (head_[b] == kEmpty) used_.push_back(static_cast<std::uint32_t>(b));
     next_[id - base_] = head_[b];
     head_[b] = id;
   }
@@ -99,7 +97,7 @@ class OverlapIndex {
   double cell_;
   std::uint32_t base_ = 0;
   std::size_t mask_ = 0;
-  std::vector<std::uint32_t> head_, next_, used_;
+  std::vector<std::uint32_t> head_, next_;
 };
 
 // Random sequential addition cannot exceed these (3D close packing; hexagonal discs).

@@ -237,7 +237,7 @@ void read_scene(const json& root, Scene& s) {
     r.finish();
   }
   // The default persistence length follows the declared length unit.
-  s.axons.persistence_length = s.units.length == "um" ? kDefaultPersistenceUm : kDefaultPersistenceUm / kMicrometresPerLu;
+  s.axons.persistence_length = kDefaultPersistenceUm / s.units.micrometres();
 
   if (const json* j = top.take("neurons")) {
     ObjectReader r(*j, "neurons");

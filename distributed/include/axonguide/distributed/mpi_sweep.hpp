@@ -16,6 +16,7 @@
 namespace axg::distributed {
 
 struct SweepOverRanks {
+  sweep::Spec spec;        // as every rank read it
   sweep::Outcome outcome;  // rank 0's; empty on the other ranks
   int dead_ranks = 0;
   bool is_root = false;

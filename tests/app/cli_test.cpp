@@ -233,3 +233,32 @@ TEST(cli, CudaBackendSaysWhyItCannotRun) {
 
 }  // namespace
 }  // namespace axg
+
+namespace axg {
+namespace {
+
+// The formats of issue 12 (SWC, SONATA, GraphML forced on, a conduction speed) are
+// outputs like the others: the same bytes on 1 and 2 threads and from the accelerator's
+// pipeline compiled for the CPU (--backend emulated). A cue scene, so that the engines
+// differ in every stage they have.
+TEST(cli, NetworkFormatsAreTheSameOnAnyThreadCountAndBackend) {
+  test::TempDir tmp;
+  const std::string scene = write(tmp, "formats.json", R"({"neurons": {"count": 120}, "steps": 30, "cues":
+      {"warmup_steps": 5}, "output": {"swc": true, "sonata": true, "graphml": true, "conduction_speed": 1.5}})");
+  std::vector<nlohmann::json> files;
+  for (const char* how : {"--threads 1", "--threads 2", "--threads 2 --backend emulated"}) {
+    const std::string out = fmt::format("{}/o{}", tmp.path().string(), files.size());
+    const Result r = run(fmt::format("run {} --out {} -q {}", scene, out, how), tmp);
+    ASSERT_EQ(r.code, 0) << how << ": " << r.err;
+    nlohmann::json m = nlohmann::json::parse(test::read_file(std::filesystem::path(out) / "manifest.json"))["files"];
+    m.erase("timings.csv");
+    EXPECT_TRUE(m.contains("morphologies/119.swc") && m.contains("network/edges.h5") && m.contains("graph.graphml"))
+        << how;
+    files.push_back(m);
+  }
+  EXPECT_EQ(files[0], files[1]) << "1 and 2 threads";
+  EXPECT_EQ(files[0], files[2]) << "reference and emulated";
+}
+
+}  // namespace
+}  // namespace axg

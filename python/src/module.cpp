@@ -145,11 +145,10 @@ py::array_t<ConnectionRow> connections_array(const RunResult& r) {
 
 // The rows stats.csv prints: every output.stats_every steps and the last (all: every step).
 py::array_t<StatsRow> stats_array(const RunResult& r, bool all) {
-  const std::uint32_t every = r.scene.output.stats_every;
   std::vector<StatsRow> rows;
   for (std::size_t k = 0; k < r.stats.size(); ++k) {
+    if (!all && !stats_row_printed(r, k)) continue;
     const StepStats& s = r.stats[k];
-    if (!all && s.step % every != 0 && k + 1 != r.stats.size()) continue;
     rows.push_back({s.step, s.growing, s.connected, s.exited, s.particles});
   }
   py::array_t<StatsRow> a(static_cast<py::ssize_t>(rows.size()));
@@ -224,17 +223,7 @@ py::dict bfs_dict(py::object self) {
 
 // manifest.json's "summary", with the graph's counts.
 py::dict summary_dict(const RunResult& r) {
-  const StepStats& last = r.stats.back();
-  py::dict d;
-  d["neurons"] = r.neurons.size();
-  d["steps_run"] = r.steps_run;
-  d["connected"] = last.connected;
-  d["exited"] = last.exited;
-  d["max_steps"] = last.growing;
-  d["placement_redraws"] = r.placement_redraws;
-  d["components"] = r.graph.component_count;
-  d["particles_at_end"] = last.particles;
-  d["cue_field"] = r.field_note;
+  py::dict d = json_to_py(run_summary(r));
   d["edges"] = r.graph.out.edges();
   d["largest_component"] = r.graph.largest_component;
   d["bfs_reached"] = r.graph.bfs ? py::object(py::int_(r.graph.bfs->reached)) : py::object(py::none());

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "axonguide/core/cues.hpp"
 #include "axonguide/engine.hpp"
 #include "axonguide/graph.hpp"
@@ -97,5 +99,11 @@ std::vector<std::string> planned_outputs(const Scene& scene);
 
 // The bytes of connections.csv (sweeps hash them without writing the file).
 std::string connections_csv(const RunResult& result);
+
+// Whether stats.csv prints result.stats[k]: every output.stats_every steps, and the last.
+bool stats_row_printed(const RunResult& result, std::size_t k);
+
+// The manifest's "summary" (neurons, steps run, the final counts, redraws, components).
+nlohmann::json run_summary(const RunResult& result);
 
 }  // namespace axg

@@ -98,10 +98,9 @@ struct StringSink {
 void write_stats(const RunResult& r, AtomicFile& f) {
   CsvWriter w(f);
   w.row("step,growing,connected,exited,particles\n");
-  const std::uint32_t every = r.scene.output.stats_every;
   for (std::size_t k = 0; k < r.stats.size(); ++k) {
+    if (!stats_row_printed(r, k)) continue;
     const StepStats& s = r.stats[k];
-    if (s.step % every != 0 && k + 1 != r.stats.size()) continue;
     w.row("{},{},{},{},{}\n", s.step, s.growing, s.connected, s.exited, s.particles);
   }
   w.flush();
@@ -180,6 +179,23 @@ std::vector<std::string> planned_outputs(const Scene& s) {
   return names;
 }
 
+bool stats_row_printed(const RunResult& r, std::size_t k) {
+  return r.stats[k].step % r.scene.output.stats_every == 0 || k + 1 == r.stats.size();
+}
+
+json run_summary(const RunResult& r) {
+  const StepStats& last = r.stats.back();
+  return {{"neurons", r.neurons.size()},
+          {"steps_run", r.steps_run},
+          {"connected", last.connected},
+          {"exited", last.exited},
+          {"max_steps", last.growing},
+          {"placement_redraws", r.placement_redraws},
+          {"components", r.graph.component_count},
+          {"particles_at_end", last.particles},
+          {"cue_field", r.field_note}};
+}
+
 std::string connections_csv(const RunResult& r) {
   StringSink sink;
   write_connections_to(r, sink);
@@ -216,16 +232,7 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
 
   json manifest = manifest_header(r.scene, backend_name, threads, {});
   manifest["status"] = "complete";
-  const StepStats& last = r.stats.back();
-  manifest["summary"] = {{"neurons", r.neurons.size()},
-                         {"steps_run", r.steps_run},
-                         {"connected", last.connected},
-                         {"exited", last.exited},
-                         {"max_steps", last.growing},
-                         {"placement_redraws", r.placement_redraws},
-                         {"components", r.graph.component_count},
-                         {"particles_at_end", last.particles},
-                         {"cue_field", r.field_note}};
+  manifest["summary"] = run_summary(r);
   json phases = json::object();
   for (const auto& row : r.times.rows()) {
     double prev = phases.contains(row.phase) ? phases[row.phase].get<double>() : 0.0;

@@ -5,10 +5,12 @@ concentration at the explant, one curve per gradient steepness, with 95 % interv
     PYTHONPATH=build/python python3 examples/explant_sweep.py --out fig.png
 
 It runs scenes/assay-explant.sweep.json (4 steepnesses x 10 concentrations x 10 seeds =
-400 members of 1000 neurons; about 4 s on 2 cores) through axonguide.sweep, in memory,
-and plots summary's bias_mean with its two-sided 95 % Student-t interval over the seeds
-(bias_ci_low, bias_ci_high). --quick runs a small version (200 neurons, 40 steps, one
-steepness, 4 concentrations, 3 seeds; well under a second) for tests. See docs/methods.md
+400 members of 1000 neurons) with a no-gradient control added (steepness 0 at every
+concentration: 100 more members; about 5 s on 2 cores) through axonguide.sweep, in
+memory, and plots summary's bias_mean with its two-sided 95 % Student-t interval over the
+seeds (bias_ci_low, bias_ci_high); the control's intervals should cover 0. --quick runs a
+small version (200 neurons, 40 steps, the control and one steepness, 4 concentrations,
+3 seeds; well under a second) for tests. See docs/methods.md
 §12 (the assay and its metrics) and §13 (the Python API).
 """
 
@@ -21,6 +23,14 @@ import time
 import axonguide
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+
+def with_control(spec):
+    """The sweep with steepness 0 (no gradient) added: the control beside the treatment."""
+    for p in spec["parameters"]:
+        if p.get("key") == "cues.imposed.steepness" and 0 not in p["values"]:
+            p["values"] = [0] + p["values"]
+    return spec
 
 
 def quick_spec(spec_path):
@@ -53,7 +63,8 @@ def main(argv=None):
     import numpy as np
 
     spec_path = pathlib.Path(args.spec)
-    spec = axonguide.SweepSpec(quick_spec(spec_path) if args.quick else spec_path, folder=spec_path.parent)
+    spec_dict = quick_spec(spec_path) if args.quick else json.loads(spec_path.read_text())
+    spec = axonguide.SweepSpec(with_control(spec_dict), folder=spec_path.parent)
     base = spec.member_scene(0).to_dict()
     unit = base["units"]["concentration"] or "concentration units"
     t0 = time.perf_counter()
@@ -82,7 +93,8 @@ def main(argv=None):
         # Points side by side within a decade, so that the bars do not overlap.
         shift = 10 ** (0.03 * (k - (len(set(steep.tolist())) - 1) / 2))
         ax.errorbar(x * shift, y, yerr=err, marker="o", ms=4, capsize=3, lw=1.2,
-                    label=f"{g:g} % per {ref:g} {length}")
+                    color="0.45" if g == 0 else None, ls="--" if g == 0 else "-",
+                    label="0 (control, no gradient)" if g == 0 else f"{g:g} % per {ref:g} {length}")
         print(f"steepness {g:g}: " + ", ".join(f"{c:.3g} {unit}: {b:+.4f}" for c, b in zip(x, y)))
     kd = [src.get("kd") for src in base["cues"]["sources"]]
     if kd and kd[0]:

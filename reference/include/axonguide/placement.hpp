@@ -24,6 +24,12 @@ double packing_fraction(const Scene::Neurons& n);
 // headings); the result does not depend on the thread count.
 Placement place_neurons(const Scene& scene);
 
+// Throws RunError when the scene's packing fraction is beyond what random sequential
+// addition can reach (checked before any overlap test).
+void check_packing(const Scene& scene);
+// Throws the RunError of neuron `id` exhausting neurons.max_attempts.
+[[noreturn]] void placement_failed(const Scene& scene, std::uint64_t id);
+
 // The position of neuron `id` at `attempt`, and its initial heading.
 core::Vec3 soma_draw(const Scene& scene, std::uint64_t id, std::uint32_t attempt);
 core::Vec3 heading_draw(const Scene& scene, std::uint64_t id);

@@ -28,6 +28,13 @@ struct RunCheckpoint;
 struct RunOptions {
   // Builds the backend's engine; empty means the reference engine.
   EngineFactory make_engine;
+  // Places the neurons; empty means place_neurons. A run decomposed over ranks
+  // (distributed/) places them together: every rank gets an empty soma list but rank 0,
+  // which gets them all (it writes the outputs), and make_engine builds the rank's share.
+  std::function<Placement(const Scene&)> place;
+  // Combines a flag word over the processes of a decomposed run (bitwise OR), so that all
+  // of them take a checkpoint or stop at the same step; empty: one process.
+  std::function<unsigned(unsigned)> agree;
   // Called after each step (for progress lines); may be empty.
   std::function<void(const StepStats&, std::uint32_t steps)> on_step;
   // Resume: start after this checkpoint's step, from its state (no placement, no
@@ -74,6 +81,9 @@ struct RunResult {
   std::uint32_t steps_run = 0;
   std::size_t engine_bytes = 0;
   std::string field_note;  // e.g. the explicit grid's sub-steps
+  // A run decomposed over ranks: its blocks, placement rounds and traffic (run facts for
+  // the manifest, like the thread count: they depend on the rank count). Null otherwise.
+  nlohmann::json decomposition;
 };
 
 // Memory needed for the scene, estimated before anything is allocated.

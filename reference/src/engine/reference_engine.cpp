@@ -2,14 +2,10 @@
 // functions. Each loop body writes only its own slot; counts are integer reductions.
 #include <algorithm>
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
+#include "axonguide/axon_stages.hpp"
 #include "axonguide/cell_grid.hpp"
-#include "axonguide/core/growth.hpp"
-#include "axonguide/core/steering.hpp"
-#include "axonguide/cue_setup.hpp"
 #include "axonguide/engine.hpp"
 #include "axonguide/fields.hpp"
 #include "axonguide/growth_setup.hpp"
@@ -41,13 +37,9 @@ class ReferenceEngine final : public Engine {
  public:
   ReferenceEngine(const Scene& scene, const Placement& placement)
       : scene_(scene),
-        params_(growth_params(scene)),
-        wander_(wander_params(scene)),
-        modulated_(modulates_growth(scene)),
-        cues_(make_cues(scene)),
-        field_(make_reference_field(scene, cues_)),
-        sense_(sense_params(scene)),
-        steer_(steer_params(scene)) {
+        stages_(scene),
+        modulated_(stages_.modulated()),
+        field_(make_reference_field(scene, stages_.cues())) {
     somas_ = build_cell_grid(soma_grid_geometry(scene), placement.soma);
     const std::size_t n = placement.soma.size();
     state_.resize(n);
@@ -59,7 +51,7 @@ class ReferenceEngine final : public Engine {
     });
     active_.resize(n);
     for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
-    if (modulated_) step_length_.assign(n, params_.step_length);
+    if (modulated_) step_length_.assign(n, stages_.params().step_length);
   }
 
   void warm_up() override {
@@ -116,11 +108,13 @@ class ReferenceEngine final : public Engine {
     if (field_) {
       field_->advance(scene_.cues.warmup_steps + step, times);
       ScopedPhase p(times, step, "steer");
-      steer(step);
+      stages_.steer(*field_, active_, arrays(), step);
     }
     {
       ScopedPhase p(times, step, "grow");
-      grow(step);
+      const GrowthCounts c = stages_.grow(somas_.view(), active_, arrays(), step);
+      stats_.connected += c.connected;
+      stats_.exited += c.exited;
     }
     {
       ScopedPhase p(times, step, "compact");
@@ -164,56 +158,10 @@ class ReferenceEngine final : public Engine {
   }
 
  private:
-  // Stage 2: every growing axon samples every cue at its tip and makes its one turn (and,
-  // with growth-rate modulation, sets its step length).
-  void steer(std::uint32_t step) {
-    const int cue_count = static_cast<int>(cues_.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active_.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-      core::CueSample samples[core::kMaxCues];
-      core::Vec3 pull[core::kMaxCues];
-      for (std::size_t a = r.begin(); a != r.end(); ++a) {
-        const std::uint32_t k = active_[a];
-        field_->sample(state_.tip[k], samples, pull);
-        const core::Steered s = core::steer_axon(heading_[k], samples, pull, cues_.data(), cue_count, sense_, steer_,
-                                                 scene_.seed, somas_.ids[k], step);
-        heading_[k] = s.heading;
-        if (modulated_) step_length_[k] = core::modulated_step(params_.step_length, s.along, steer_);
-      }
-    });
-  }
-
-  // Stages 3-5: move every growing tip, test contact and bounds, then the heading's
-  // random walk.
-  void grow(std::uint32_t step) {
-    const core::CellGridView somas = somas_.view();
-    struct Counts {
-      std::uint64_t connected = 0, exited = 0;
-    };
-    const Counts c = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, active_.size()), Counts{},
-        [&](const tbb::blocked_range<std::size_t>& r, Counts acc) {
-          for (std::size_t a = r.begin(); a != r.end(); ++a) {
-            const std::uint32_t k = active_[a];
-            const std::uint32_t id = somas_.ids[k];
-            const double l = modulated_ ? step_length_[k] : params_.step_length;
-            const core::Vec3 h = heading_[k];
-            const core::AxonStep s = core::grow_axon(id, state_.tip[k], h, l, params_, somas);
-            // The heading's random walk for the next step (independent of the move, so the
-            // two overlap in the pipeline).
-            heading_[k] = core::wander(h, l, !modulated_, wander_, scene_.seed, id, step);
-            state_.tip[k] = s.tip;
-            state_.length[k] += s.advanced;
-            state_.steps[k] = step;
-            state_.status[k] = s.status;
-            state_.target[k] = s.target;
-            acc.connected += s.status == AxonStatus::kConnected;
-            acc.exited += s.status == AxonStatus::kExited;
-          }
-          return acc;
-        },
-        [](Counts a, Counts b) { return Counts{a.connected + b.connected, a.exited + b.exited}; });
-    stats_.connected += c.connected;
-    stats_.exited += c.exited;
+  AxonArrays arrays() {
+    return {somas_.ids.data(), state_.tip.data(), heading_.data(), state_.length.data(),
+            modulated_ ? step_length_.data() : nullptr, state_.status.data(), state_.steps.data(),
+            state_.target.data()};
   }
 
   // Keeps the growing axons, in slot order.
@@ -224,13 +172,9 @@ class ReferenceEngine final : public Engine {
   }
 
   const Scene& scene_;
-  core::GrowthParams params_;
-  core::WanderParams wander_;
+  AxonStages stages_;
   bool modulated_;
-  std::vector<core::CueParams> cues_;
   std::unique_ptr<CueField> field_;  // null for direct guidance: no cue work at all
-  core::SenseParams sense_;
-  core::SteerParams steer_;
   CellGrid somas_;
   NeuronState state_;  // in slot order
   std::vector<core::Vec3> heading_;

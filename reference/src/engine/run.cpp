@@ -95,7 +95,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     placement.heading = resume->engine.heading;
   } else {
     ScopedPhase p(r.times, 0, "placement");
-    placement = place_neurons(scene);
+    placement = options.place ? options.place(scene) : place_neurons(scene);
     fault_point("placement");
   }
   r.scene = scene;
@@ -139,11 +139,19 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   using clock = std::chrono::steady_clock;
   auto last_checkpoint = clock::now();
   const double interval = scene.output.checkpoint_interval();
+  // The wall clock and the signals are each process's own: a decomposed run agrees on them.
+  enum : unsigned { kStop = 1, kClockDue = 2 };
   auto between_steps = [&](std::uint32_t step) {
-    const bool stop = options.stop_requested && options.stop_requested();
+    unsigned flags = 0;
+    if (options.stop_requested && options.stop_requested()) flags |= kStop;
+    if (options.on_checkpoint && interval > 0 &&
+        std::chrono::duration<double>(clock::now() - last_checkpoint).count() >= interval)
+      flags |= kClockDue;
+    if (options.agree) flags = options.agree(flags);
+    const bool stop = (flags & kStop) != 0;
     if (options.on_checkpoint) {
       const bool due = (scene.output.checkpoint_every != 0 && step != 0 && step % scene.output.checkpoint_every == 0) ||
-                       (interval > 0 && std::chrono::duration<double>(clock::now() - last_checkpoint).count() >= interval);
+                       (flags & kClockDue) != 0;
       if (due || stop) {
         ScopedPhase p(r.times, step, "checkpoint");
         EngineState state;

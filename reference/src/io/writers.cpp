@@ -233,6 +233,7 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   json manifest = manifest_header(r.scene, backend_name, threads, {});
   manifest["status"] = "complete";
   manifest["summary"] = run_summary(r);
+  if (!r.decomposition.is_null()) manifest["decomposition"] = r.decomposition;
   json phases = json::object();
   for (const auto& row : r.times.rows()) {
     double prev = phases.contains(row.phase) ? phases[row.phase].get<double>() : 0.0;

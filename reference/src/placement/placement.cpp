@@ -8,6 +8,7 @@
 
 #include "axonguide/core/random.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/overlap_index.hpp"
 #include "axonguide/sampler_nd.hpp"
 
 namespace axg {
@@ -50,61 +51,42 @@ Vec3 heading_draw(const Scene& scene, std::uint64_t id) {
 
 namespace {
 
-// Hashed cell lists for the sequential overlap pass: cells of edge 2 r_s, so every
-// soma that can overlap a new one lies in the 27 cells around it.
-class OverlapIndex {
- public:
-  // Room for the n somas with ids [base, base + n); the block index is cleared and rebased
-  // for every block.
-  OverlapIndex(std::size_t n, double cell) : cell_(cell), next_(n, kEmpty) {
-    std::size_t buckets = 1;
-    while (buckets < 2 * n) buckets <<= 1;
-    head_.assign(buckets, kEmpty);
-    mask_ = buckets - 1;
-  }
-  void clear(std::uint32_t base) {
-    std::fill(head_.begin(), head_.end(), kEmpty);
-    base_ = base;
-  }
-
-  bool overlaps(const std::vector<Vec3>& pos, Vec3 p, double min_dist2) const {
-    const std::int64_t cx = coord(p.x), cy = coord(p.y), cz = coord(p.z);
-    for (std::int64_t dz = -1; dz <= 1; ++dz)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dx = -1; dx <= 1; ++dx)
-          for (std::uint32_t j = head_[bucket(cx + dx, cy + dy, cz + dz)]; j != kEmpty; j = next_[j - base_])
-            if (core::norm2(pos[j] - p) < min_dist2) return true;
-    return false;
-  }
-
-  void insert(std::uint32_t id, Vec3 p) {
-    std::size_t b = bucket(coord(p.x), coord(p.y), coord(p.z));
-    next_[id - base_] = head_[b];
-    head_[b] = id;
-  }
-
- private:
-  static constexpr std::uint32_t kEmpty = 0xffffffffu;
-  std::int64_t coord(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
-  std::size_t bucket(std::int64_t x, std::int64_t y, std::int64_t z) const {
-    std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^
-                      static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
-                      static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
-    h ^= h >> 29;
-    return static_cast<std::size_t>(h) & mask_;
-  }
-
-  double cell_;
-  std::uint32_t base_ = 0;
-  std::size_t mask_ = 0;
-  std::vector<std::uint32_t> head_, next_;
-};
-
 // Random sequential addition cannot exceed these (3D close packing; hexagonal discs).
 constexpr double kMaxVolumeFraction = 0.7405;
 constexpr double kMaxAreaFraction = 0.9069;
 
+const char* fraction_kind(const Scene::Neurons& nn) { return nn.shape == RegionShape::kSphere ? "area" : "volume"; }
+
 }  // namespace
+
+void check_packing(const Scene& scene) {
+  const auto& nn = scene.neurons;
+  const double phi = packing_fraction(nn);
+  if (!nn.populations.empty() && phi > 0.38)
+    throw RunError(fmt::format(
+        "placement impossible: a population's packing fraction is {:.4f} (somas of radius {}); random sequential "
+        "addition jams near 0.38: enlarge neurons.populations[].radius or reduce its count",
+        phi, nn.soma_radius));
+  const double limit = nn.shape == RegionShape::kSphere ? kMaxAreaFraction : kMaxVolumeFraction;
+  if (phi > limit)
+    throw RunError(fmt::format(
+        "placement impossible: packing fraction {:.4f} ({} fraction of {} somas of radius {} in a "
+        "{} of radius {}) exceeds the densest packing {:.4f}; reduce neurons.count or "
+        "neurons.soma_radius, enlarge neurons.region.radius, or set neurons.overlap to \"allow\"",
+        phi, fraction_kind(nn), nn.count, nn.soma_radius, name_of(nn.shape), nn.radius, limit));
+}
+
+void placement_failed(const Scene& scene, std::uint64_t id) {
+  const auto& nn = scene.neurons;
+  throw RunError(fmt::format(
+      "placement failed: neuron {} still overlaps an earlier soma after {} attempts; "
+      "packing fraction {:.4f} ({} fraction of {} somas of radius {} in a {} of radius {}; "
+      "random sequential addition jams near {}); reduce neurons.count or "
+      "neurons.soma_radius, enlarge neurons.region.radius, raise neurons.max_attempts, or "
+      "set neurons.overlap to \"allow\"",
+      id, nn.max_attempts, packing_fraction(nn), fraction_kind(nn), nn.count, nn.soma_radius, name_of(nn.shape),
+      nn.radius, nn.shape == RegionShape::kSphere ? "0.547" : "0.38"));
+}
 
 Placement place_neurons(const Scene& scene) {
   const auto& nn = scene.neurons;
@@ -117,21 +99,7 @@ Placement place_neurons(const Scene& scene) {
     out.heading[i] = heading_draw(scene, i);
   });
   if (!nn.overlap_reject || n < 2) return out;
-
-  const double phi = packing_fraction(nn);
-  if (!nn.populations.empty() && phi > 0.38)
-    throw RunError(fmt::format(
-        "placement impossible: a population's packing fraction is {:.4f} (somas of radius {}); random sequential "
-        "addition jams near 0.38: enlarge neurons.populations[].radius or reduce its count",
-        phi, nn.soma_radius));
-  const double limit = nn.shape == RegionShape::kSphere ? kMaxAreaFraction : kMaxVolumeFraction;
-  const char* what = nn.shape == RegionShape::kSphere ? "area" : "volume";
-  if (phi > limit)
-    throw RunError(fmt::format(
-        "placement impossible: packing fraction {:.4f} ({} fraction of {} somas of radius {} in a "
-        "{} of radius {}) exceeds the densest packing {:.4f}; reduce neurons.count or "
-        "neurons.soma_radius, enlarge neurons.region.radius, or set neurons.overlap to \"allow\"",
-        phi, what, nn.count, nn.soma_radius, name_of(nn.shape), nn.radius, limit));
+  check_packing(scene);
 
   // Random sequential addition in id order: attempt k of soma i is rejected when it
   // overlaps any earlier soma's final position. The pass runs in blocks of ids with the
@@ -144,16 +112,6 @@ Placement place_neurons(const Scene& scene) {
   constexpr std::size_t kBlock = 4096;
   OverlapIndex local(kBlock, min_dist);
   std::vector<std::uint32_t> attempts(kBlock);
-  auto fail = [&](std::size_t i) {
-    throw RunError(fmt::format(
-        "placement failed: neuron {} still overlaps an earlier soma after {} attempts; "
-        "packing fraction {:.4f} ({} fraction of {} somas of radius {} in a {} of radius {}; "
-        "random sequential addition jams near {}); reduce neurons.count or "
-        "neurons.soma_radius, enlarge neurons.region.radius, raise neurons.max_attempts, or "
-        "set neurons.overlap to \"allow\"",
-        i, nn.max_attempts, phi, what, nn.count, nn.soma_radius, name_of(nn.shape), nn.radius,
-        nn.shape == RegionShape::kSphere ? "0.547" : "0.38"));
-  };
   for (std::size_t a = 0; a < n; a += kBlock) {
     const std::size_t b = std::min(n, a + kBlock);
     tbb::parallel_for(a, b, [&](std::size_t i) {
@@ -165,10 +123,10 @@ Placement place_neurons(const Scene& scene) {
     local.clear(static_cast<std::uint32_t>(a));
     for (std::size_t i = a; i < b; ++i) {
       std::uint32_t attempt = attempts[i - a];
-      if (attempt >= nn.max_attempts) fail(i);
+      if (attempt >= nn.max_attempts) placement_failed(scene, i);
       while (local.overlaps(out.soma, out.soma[i], min_dist2) ||
              (attempt != attempts[i - a] && index.overlaps(out.soma, out.soma[i], min_dist2))) {
-        if (++attempt >= nn.max_attempts) fail(i);
+        if (++attempt >= nn.max_attempts) placement_failed(scene, i);
         out.soma[i] = soma_draw(scene, i, attempt);
       }
       out.redraws += attempt;

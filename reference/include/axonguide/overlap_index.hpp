@@ -1,0 +1,66 @@
+#pragma once
+// Hashed cell lists for placement's overlap tests (methods §2.1): cells of edge 2 r_s, so
+// every soma that can overlap a new one lies in the 27 cells around it. Entries are slot
+// numbers [base, base + capacity) into a position array the caller owns: neuron ids for the
+// one-process placement, local slots for the decomposed one (distributed/).
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "axonguide/core/vec3.hpp"
+
+namespace axg {
+
+class OverlapIndex {
+ public:
+  // Buckets for about `expected` entries; room for `n` slots (grown by insert past it).
+  OverlapIndex(std::size_t n, double cell, std::size_t expected = 0) : cell_(cell), next_(n, kEmpty) {
+    std::size_t buckets = 1;
+    while (buckets < 2 * (expected ? expected : n)) buckets <<= 1;
+    head_.assign(buckets, kEmpty);
+    mask_ = buckets - 1;
+  }
+  // Empties the index and rebases its slots at `base`.
+  void clear(std::uint32_t base) {
+    std::fill(head_.begin(), head_.end(), kEmpty);
+    base_ = base;
+  }
+
+  // Whether any indexed slot j has |pos[j] - p|^2 < min_dist2.
+  bool overlaps(const std::vector<core::Vec3>& pos, core::Vec3 p, double min_dist2) const {
+    const std::int64_t cx = coord(p.x), cy = coord(p.y), cz = coord(p.z);
+    for (std::int64_t dz = -1; dz <= 1; ++dz)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+          for (std::uint32_t j = head_[bucket(cx + dx, cy + dy, cz + dz)]; j != kEmpty; j = next_[j - base_])
+            if (core::norm2(pos[j] - p) < min_dist2) return true;
+    return false;
+  }
+
+  void insert(std::uint32_t slot, core::Vec3 p) {
+    if (slot - base_ >= next_.size()) next_.resize(std::max<std::size_t>(2 * next_.size(), slot - base_ + 1), kEmpty);
+    std::size_t b = bucket(coord(p.x), coord(p.y), coord(p.z));
+    next_[slot - base_] = head_[b];
+    head_[b] = slot;
+  }
+
+  std::size_t bytes() const { return (head_.capacity() + next_.capacity()) * 4; }
+
+ private:
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;
+  std::int64_t coord(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
+  std::size_t bucket(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^
+                      static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
+                      static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
+    h ^= h >> 29;
+    return static_cast<std::size_t>(h) & mask_;
+  }
+
+  double cell_;
+  std::uint32_t base_ = 0;
+  std::size_t mask_ = 0;
+  std::vector<std::uint32_t> head_, next_;
+};
+
+}  // namespace axg

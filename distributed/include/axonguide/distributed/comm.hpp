@@ -1,0 +1,78 @@
+#pragma once
+// The messages of a run decomposed over ranks (docs/scaling.md §2), behind one interface
+// with two transports: MPI (mpi_comm.hpp, Open MPI from Debian) and a group of threads in
+// this process (local_group.hpp), so that the decomposed placement and engine are tested
+// byte for byte against the one-process run on machines and in builds without MPI.
+//
+// Every call is collective: every rank of the group makes the same calls in the same
+// order. Payloads are raw bytes of trivially copyable records: all ranks run the same
+// build on the same architecture.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <vector>
+
+namespace axg::distributed {
+
+using Bytes = std::vector<std::byte>;
+
+// What this rank sent: point-to-point messages with a payload (neighbour exchanges, the
+// gather to rank 0) and collective calls (reductions, all-gathers, the exchanges' counts),
+// with their bytes.
+struct Traffic {
+  std::uint64_t messages = 0, message_bytes = 0;
+  std::uint64_t collectives = 0, collective_bytes = 0;
+  Traffic operator-(const Traffic& o) const {
+    return {messages - o.messages, message_bytes - o.message_bytes, collectives - o.collectives,
+            collective_bytes - o.collective_bytes};
+  }
+};
+
+enum class Reduce { kSum, kMax, kOr };
+
+class Comm {
+ public:
+  virtual ~Comm() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  bool root() const { return rank() == 0; }
+
+  // Every rank's bytes, in rank order, on every rank.
+  virtual std::vector<Bytes> allgather(const Bytes& mine) = 0;
+  // Element by element over the ranks, the result on every rank.
+  virtual void allreduce(std::vector<std::uint64_t>& values, Reduce op) = 0;
+  // The peers of exchange(): a symmetric list (a is b's peer when b is a's), ascending.
+  virtual void set_neighbours(const std::vector<int>& peers) = 0;
+  // Sends out[k] to peer k and returns what each peer sent, in peer order.
+  virtual std::vector<Bytes> exchange(const std::vector<Bytes>& out) = 0;
+  // Every rank's bytes on rank 0, in rank order; empty on the other ranks.
+  virtual std::vector<Bytes> gather(const Bytes& mine) = 0;
+
+  const Traffic& traffic() const { return traffic_; }
+
+ protected:
+  Traffic traffic_;
+};
+
+// Records in and out of byte buffers.
+template <class T>
+void append(Bytes& out, const T* data, std::size_t count) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  const std::size_t at = out.size();
+  out.resize(at + count * sizeof(T));
+  if (count) std::memcpy(out.data() + at, data, count * sizeof(T));
+}
+template <class T>
+void append(Bytes& out, const std::vector<T>& v) {
+  append(out, v.data(), v.size());
+}
+template <class T>
+std::vector<T> records(const Bytes& in) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  std::vector<T> v(in.size() / sizeof(T));
+  if (!v.empty()) std::memcpy(v.data(), in.data(), v.size() * sizeof(T));
+  return v;
+}
+
+}  // namespace axg::distributed

@@ -1,0 +1,75 @@
+#include "axonguide/distributed/decomposed_run.hpp"
+
+#include "axonguide/distributed/placement.hpp"
+
+namespace axg::distributed {
+
+using nlohmann::json;
+
+DecomposedRun::DecomposedRun(const Scene& scene, Comm& comm) : comm_(comm), d_(decompose(scene, comm.size())) {}
+
+void DecomposedRun::attach(RunOptions& options) {
+  options.place = [this](const Scene& scene) {
+    const Traffic before = comm_.traffic();
+    DecomposedPlacement p;
+    try {
+      p = place_decomposed(scene, d_, comm_);
+    } catch (...) {
+      throw OnEveryRank(std::current_exception());
+    }
+    report_.placement = comm_.traffic() - before;
+    report_.rounds = p.rounds;
+    report_.second_searches = p.second_searches;
+    report_.scan_searches = p.scan_searches;
+    placed_ = std::move(p.somas);
+    Placement out;
+    out.soma = std::move(p.all);
+    out.redraws = p.redraws;
+    return out;
+  };
+  // A fresh run builds its engine from the decomposed placement; a resumed one from the
+  // checkpoint's somas, which every rank read.
+  options.make_engine = [this](const Scene& scene, const Placement& placement) {
+    RankSomas somas = placed_ ? std::move(*placed_) : rank_somas(placement.soma, d_, comm_.rank());
+    placed_.reset();
+    return make_decomposed_engine(scene, d_, comm_, std::move(somas), report_);
+  };
+  options.agree = [this](unsigned flags) {
+    std::vector<std::uint64_t> v{flags};
+    comm_.allreduce(v, Reduce::kOr);
+    return static_cast<unsigned>(v[0]);
+  };
+}
+
+json DecomposedRun::facts() {
+  const RankReport& r = report_;
+  std::vector<std::uint64_t> sum{r.owned_somas,          r.halo_somas,          r.migrated,
+                                 r.placement.collective_bytes, r.steps.messages,  r.steps.message_bytes,
+                                 r.steps.collective_bytes,     r.gathers.messages, r.gathers.message_bytes};
+  std::vector<std::uint64_t> most{r.owned_somas, ~r.owned_somas, r.steps.message_bytes, r.steps.collectives};
+  comm_.allreduce(sum, Reduce::kSum);
+  comm_.allreduce(most, Reduce::kMax);
+  const double steps = static_cast<double>(std::max<std::uint64_t>(r.steps_run, 1));
+  auto per_step = [&](std::uint64_t v) { return static_cast<double>(v) / steps; };
+  return {{"ranks", d_.ranks},
+          {"blocks", d_.blocks},
+          {"block_edge_lu", d_.edge},
+          {"halo_lu", d_.halo},
+          {"somas_per_rank", {{"min", ~most[1]}, {"max", most[0]}}},
+          {"halo_somas", sum[1]},
+          {"placement", {{"rounds", r.rounds},
+                         {"second_searches", r.second_searches},
+                         {"scan_searches", r.scan_searches},
+                         {"collective_bytes", sum[3]}}},
+          {"steps", r.steps_run},
+          {"per_step",
+           {{"migrated_axons", per_step(sum[2])},
+            {"messages", per_step(sum[4])},
+            {"message_bytes", per_step(sum[5])},
+            {"collectives_per_rank", per_step(most[3])},
+            {"collective_bytes", per_step(sum[6])},
+            {"max_rank_message_bytes", per_step(most[2])}}},
+          {"gathered", {{"messages", sum[7]}, {"bytes", sum[8]}}}};
+}
+
+}  // namespace axg::distributed

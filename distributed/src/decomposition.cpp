@@ -1,0 +1,110 @@
+#include "axonguide/distributed/decomposition.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "axonguide/error.hpp"
+#include "axonguide/growth_setup.hpp"
+
+namespace axg::distributed {
+
+std::array<int, 3> Decomposition::block_of(core::Vec3 p) const {
+  const double c[3] = {p.x, p.y, p.z};
+  std::array<int, 3> b{};
+  for (int a = 0; a < 3; ++a) {
+    const double t = (c[a] + half) / edge[a];
+    b[a] = !(t >= 0.0) ? 0 : t >= blocks[a] ? blocks[a] - 1 : static_cast<int>(t);
+  }
+  return b;
+}
+
+std::array<int, 3> Decomposition::block(int rank) const {
+  return {rank % blocks[0], (rank / blocks[0]) % blocks[1], rank / (blocks[0] * blocks[1])};
+}
+
+bool Decomposition::near(int rank, core::Vec3 p, double width) const {
+  const std::array<int, 3> b = block(rank);
+  const double c[3] = {p.x, p.y, p.z};
+  double d2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = -half + b[a] * edge[a], hi = lo + edge[a];
+    double d = 0.0;
+    if (b[a] > 0 && c[a] < lo) d = lo - c[a];
+    if (b[a] < blocks[a] - 1 && c[a] > hi) d = c[a] - hi;
+    d2 += d * d;
+  }
+  return d2 <= width * width;
+}
+
+std::vector<int> Decomposition::neighbours(int rank) const {
+  const std::array<int, 3> b = block(rank);
+  std::vector<int> out;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::array<int, 3> n{b[0] + dx, b[1] + dy, b[2] + dz};
+        bool inside = !(dx == 0 && dy == 0 && dz == 0);
+        for (int a = 0; a < 3; ++a) inside = inside && n[a] >= 0 && n[a] < blocks[a];
+        if (inside) out.push_back(rank_of(n));
+      }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string Decomposition::describe() const {
+  return fmt::format("{} x {} x {} blocks of {:.4g} x {:.4g} x {:.4g} LU, halo {:.4g} LU", blocks[0], blocks[1],
+                     blocks[2], edge[0], edge[1], edge[2], halo);
+}
+
+Decomposition decompose(const Scene& scene, int ranks) {
+  if (scene.uses_cues() && (scene.cues.field == FieldKind::kParticles || scene.cues.field == FieldKind::kGrid))
+    throw RunError(fmt::format(
+        "a run decomposed over ranks takes direct guidance or the analytic or imposed field; the {} field's "
+        "decomposition (particle migration, grid halos) is designed in docs/scaling.md but not built: run it "
+        "without mpirun",
+        name_of(scene.cues.field)));
+  const auto& nn = scene.neurons;
+  Decomposition d;
+  d.ranks = ranks;
+  double extent = std::max(nn.radius, scene.bounds_radius());
+  for (const Population& p : nn.populations)
+    extent = std::max({extent, std::abs(p.center.x) + p.radius, std::abs(p.center.y) + p.radius,
+                       std::abs(p.center.z) + p.radius});
+  d.half = extent + nn.soma_radius;
+  d.max_step = modulates_growth(scene) ? scene.axons.step_length * (1.0 + scene.axons.growth_modulation)
+                                       : scene.axons.step_length;
+  const double reach = d.max_step + nn.soma_radius + scene.axons.contact_distance;
+  d.halo = std::max(reach, 2.0 * nn.soma_radius) * 1.001;
+
+  // The most cubic factorisation: the least P_x + P_y + P_z, then the most cuts along x, y.
+  int best = -1;
+  for (int px = 1; px <= ranks; ++px) {
+    if (ranks % px) continue;
+    for (int py = 1; py <= ranks / px; ++py) {
+      if ((ranks / px) % py) continue;
+      const int pz = ranks / px / py;
+      const int score = px + py + pz;
+      if (best < 0 || score < best || (score == best && std::array{px, py} > std::array{d.blocks[0], d.blocks[1]})) {
+        best = score;
+        d.blocks = {px, py, pz};
+      }
+    }
+  }
+  for (int a = 0; a < 3; ++a) d.edge[a] = 2.0 * d.half / d.blocks[a];
+  const double shortest = *std::min_element(d.edge.begin(), d.edge.end());
+  if (shortest < d.halo) {
+    const int per_axis = static_cast<int>(std::floor(2.0 * d.half / d.halo));
+    throw InputError(fmt::format(
+        "{} ranks: the domain (a cube of edge {:.4g} LU) cut {} x {} x {} gives blocks {:.4g} LU wide, narrower than "
+        "the halo of {:.4g} LU (one step's contact search: step {:.4g} + soma radius + contact distance); use a "
+        "rank count whose most cubic factorisation has at most {} blocks along an axis (at most {} ranks), or run "
+        "without mpirun",
+        ranks, 2.0 * d.half, d.blocks[0], d.blocks[1], d.blocks[2], shortest, d.halo, d.max_step, per_axis,
+        static_cast<long long>(per_axis) * per_axis * per_axis));
+  }
+  return d;
+}
+
+}  // namespace axg::distributed

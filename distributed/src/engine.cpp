@@ -1,0 +1,332 @@
+#include "axonguide/distributed/engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "axonguide/axon_stages.hpp"
+#include "axonguide/cell_grid.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/fields.hpp"
+#include "axonguide/growth_setup.hpp"
+#include "axonguide/placement.hpp"
+
+namespace axg::distributed {
+
+using core::AxonStatus;
+using core::Vec3;
+
+namespace {
+
+// One axon's whole state: what migrates, and what rank 0 gathers.
+struct AxonRecord {
+  Vec3 tip, heading;
+  double length, step_length;
+  std::uint32_t id, steps, target;
+  AxonStatus status;
+};
+
+struct TipRecord {
+  Vec3 tip;
+  std::uint32_t id;
+};
+
+// The grid over this rank's somas: the cells of the one-process soma grid's size, over the
+// block and its halo (clipped to the domain, where every soma lies). Which cells a search
+// visits changes nothing: find_contact's answer is the best (t, id) over the somas within
+// reach, and all of them are in this grid.
+CellGrid local_soma_grid(const Scene& scene, const Decomposition& d, int rank, const RankSomas& somas) {
+  const double cell = soma_grid_geometry(scene).cell;
+  const std::array<int, 3> b = d.block(rank);
+  double lo[3], n[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(-d.half, -d.half + b[a] * d.edge[a] - d.halo);
+    const double hi = std::min(d.half, -d.half + (b[a] + 1) * d.edge[a] + d.halo);
+    n[a] = std::max(1.0, std::ceil((hi - lo[a]) / cell));
+  }
+  GridGeometry g;
+  g.origin = {lo[0], lo[1], lo[2]};
+  g.cell = cell;
+  g.nx = static_cast<int>(n[0]);
+  g.ny = static_cast<int>(n[1]);
+  g.nz = static_cast<int>(n[2]);
+  CellGrid grid = build_cell_grid(g, somas.pos);
+  for (std::uint32_t& k : grid.ids) k = somas.id[k];  // local index -> neuron id (both ascending)
+  return grid;
+}
+
+class DecomposedEngine final : public Engine {
+ public:
+  DecomposedEngine(const Scene& scene, const Decomposition& d, Comm& comm, RankSomas somas, RankReport& report)
+      : scene_(scene),
+        d_(d),
+        comm_(comm),
+        rank_(comm.rank()),
+        n_(static_cast<std::size_t>(scene.neurons.count)),
+        stages_(scene),
+        modulated_(stages_.modulated()),
+        field_(make_reference_field(scene, stages_.cues())),
+        report_(report),
+        neighbours_(d.neighbours(rank_)),
+        peer_of_(static_cast<std::size_t>(d.ranks), -1) {
+    for (std::size_t k = 0; k < neighbours_.size(); ++k) peer_of_[neighbours_[k]] = static_cast<int>(k);
+    comm_.set_neighbours(neighbours_);
+    grid_ = local_soma_grid(scene, d, rank_, somas);
+    std::vector<AxonRecord> start;
+    for (std::size_t s = 0; s < somas.id.size(); ++s) {
+      if (!somas.owned[s]) {
+        ++report_.halo_somas;
+        continue;
+      }
+      ++report_.owned_somas;
+      const std::uint32_t id = somas.id[s];
+      const Vec3 h = heading_draw(scene, id);
+      start.push_back({axon_start(somas.pos[s], h, scene), h, 0.0, stages_.params().step_length, id, 0,
+                       core::kNoNeuron, AxonStatus::kGrowing});
+    }
+    route(start);  // a tip starts on its soma's surface, perhaps in the next block
+  }
+
+  void warm_up() override {
+    if (!field_) return;
+    PhaseTimes warmup;
+    for (std::uint32_t s = 1; s <= scene_.cues.warmup_steps; ++s) field_->advance(s, warmup);
+  }
+
+  void save(EngineState& out) override {
+    const std::vector<AxonRecord> all = gather_records();
+    if (!comm_.root()) return;
+    out.axons.resize(n_);
+    out.heading.resize(n_);
+    out.step_length.resize(modulated_ ? n_ : 0);
+    for (const AxonRecord& r : all) {
+      out.axons.tip[r.id] = r.tip;
+      out.axons.length[r.id] = r.length;
+      out.axons.status[r.id] = r.status;
+      out.axons.steps[r.id] = r.steps;
+      out.axons.target[r.id] = r.target;
+      out.heading[r.id] = r.heading;
+      if (modulated_) out.step_length[r.id] = r.step_length;
+    }
+    out.connected = stats_.connected;
+    out.exited = stats_.exited;
+  }
+
+  // Every rank holds the whole checkpoint; each keeps the axons whose tips lie in its block.
+  void load(const EngineState& in) override {
+    grow_ = {};
+    done_.clear();
+    for (std::size_t i = 0; i < in.axons.size(); ++i) {
+      if (d_.owner(in.axons.tip[i]) != rank_) continue;
+      const AxonRecord r{in.axons.tip[i], in.heading[i], in.axons.length[i],
+                         modulated_ ? in.step_length[i] : stages_.params().step_length, static_cast<std::uint32_t>(i),
+                         in.axons.steps[i], in.axons.target[i], in.axons.status[i]};
+      if (r.status == AxonStatus::kGrowing)
+        grow_.push(r);
+      else
+        done_.push_back(r);
+    }
+    stats_.connected = in.connected;
+    stats_.exited = in.exited;
+  }
+
+  StepStats step(std::uint32_t step, PhaseTimes& times) override {
+    const Traffic before = comm_.traffic();
+    if (field_) {
+      field_->advance(scene_.cues.warmup_steps + step, times);
+      ScopedPhase p(times, step, "steer");
+      stages_.steer(*field_, grow_.slots, grow_.arrays(), step);
+    }
+    GrowthCounts c;
+    {
+      ScopedPhase p(times, step, "grow");
+      c = stages_.grow(grid_.view(), grow_.slots, grow_.arrays(), step);
+    }
+    {
+      ScopedPhase p(times, step, "migrate");
+      migrate();
+      std::vector<std::uint64_t> counts{c.connected, c.exited, grow_.size()};
+      comm_.allreduce(counts, Reduce::kSum);
+      stats_.connected += counts[0];
+      stats_.exited += counts[1];
+      stats_.growing = counts[2];
+    }
+    stats_.step = step;
+    stats_.particles = 0;
+    ++report_.steps_run;
+    const Traffic spent = comm_.traffic() - before;
+    report_.steps.messages += spent.messages;
+    report_.steps.message_bytes += spent.message_bytes;
+    report_.steps.collectives += spent.collectives;
+    report_.steps.collective_bytes += spent.collective_bytes;
+    return stats_;
+  }
+
+  void tips(std::vector<Vec3>& out) override {
+    std::vector<TipRecord> mine;
+    mine.reserve(grow_.size() + done_.size());
+    for (std::size_t k = 0; k < grow_.size(); ++k) mine.push_back({grow_.tip[k], grow_.id[k]});
+    for (const AxonRecord& r : done_) mine.push_back({r.tip, r.id});
+    const std::vector<TipRecord> all = gather(mine);
+    out.clear();
+    if (!comm_.root()) return;
+    out.resize(n_);
+    for (const TipRecord& t : all) out[t.id] = t.tip;
+  }
+
+  void finish(NeuronState& out) override {
+    std::fill(grow_.status.begin(), grow_.status.end(), AxonStatus::kMaxSteps);
+    const std::vector<AxonRecord> all = gather_records();
+    grow_ = {};
+    done_ = {};
+    if (!comm_.root()) return;
+    out.resize(n_);
+    for (const AxonRecord& r : all) {
+      out.tip[r.id] = r.tip;
+      out.length[r.id] = r.length;
+      out.status[r.id] = r.status;
+      out.steps[r.id] = r.steps;
+      out.target[r.id] = r.target;
+    }
+  }
+
+  // Rank 0 runs the host's graph analysis on the gathered result; the others hold none.
+  bool analyze(const Scene&, GraphAnalysis&) override { return !comm_.root(); }
+
+  std::size_t bytes() const override {
+    return (field_ ? field_->bytes() : 0) + grid_.bytes() + grow_.capacity() + done_.capacity() * sizeof(AxonRecord);
+  }
+  std::string note() const override { return field_ ? field_->note() : std::string(); }
+
+ private:
+  // The growing axons of this block, by slot (structure of arrays, for AxonStages).
+  struct Growing {
+    std::vector<std::uint32_t> id, steps, target, slots;
+    std::vector<Vec3> tip, heading;
+    std::vector<double> length, step_length;
+    std::vector<AxonStatus> status;
+    std::size_t size() const { return id.size(); }
+    std::size_t capacity() const { return id.capacity() * (4 * 4 + 2 * sizeof(Vec3) + 2 * 8 + 1); }
+    void push(const AxonRecord& r) {
+      slots.push_back(static_cast<std::uint32_t>(id.size()));
+      id.push_back(r.id), steps.push_back(r.steps), target.push_back(r.target);
+      tip.push_back(r.tip), heading.push_back(r.heading);
+      length.push_back(r.length), step_length.push_back(r.step_length);
+      status.push_back(r.status);
+    }
+    AxonRecord record(std::size_t k) const {
+      return {tip[k], heading[k], length[k], step_length[k], id[k], steps[k], target[k], status[k]};
+    }
+    AxonArrays arrays() {
+      return {id.data(), tip.data(), heading.data(), length.data(), step_length.data(), status.data(), steps.data(),
+              target.data()};
+    }
+  };
+
+  // Axons whose tips lie here stay (or arrive); the others go to their block's rank.
+  void route(const std::vector<AxonRecord>& records) {
+    std::vector<Bytes> out(neighbours_.size());
+    for (const AxonRecord& r : records) {
+      const int owner = d_.owner(r.tip);
+      if (owner == rank_) {
+        grow_.push(r);
+        continue;
+      }
+      send_to(owner, r, out);
+    }
+    receive(comm_.exchange(out));
+  }
+
+  // After a step: finished axons are kept as records, migrants sent, the rest compacted
+  // in slot order.
+  void migrate() {
+    std::vector<Bytes> out(neighbours_.size());
+    Growing kept;
+    for (std::size_t k = 0; k < grow_.size(); ++k) {
+      const AxonRecord r = grow_.record(k);
+      if (r.status != AxonStatus::kGrowing) {
+        done_.push_back(r);
+        continue;
+      }
+      const int owner = d_.owner(r.tip);
+      if (owner == rank_)
+        kept.push(r);
+      else
+        send_to(owner, r, out);
+    }
+    grow_ = std::move(kept);
+    receive(comm_.exchange(out));
+  }
+
+  void send_to(int owner, const AxonRecord& r, std::vector<Bytes>& out) {
+    const int peer = peer_of_[static_cast<std::size_t>(owner)];
+    if (peer < 0)  // cannot happen: a step is shorter than a block (decompose checks it)
+      throw RunError("decomposed run: an axon moved past the neighbouring blocks in one step");
+    append(out[static_cast<std::size_t>(peer)], &r, 1);
+    ++report_.migrated;
+  }
+
+  void receive(const std::vector<Bytes>& in) {
+    for (const Bytes& from : in)
+      for (const AxonRecord& r : records<AxonRecord>(from)) grow_.push(r);
+  }
+
+  template <class T>
+  std::vector<T> gather(const std::vector<T>& mine) {
+    const Traffic before = comm_.traffic();
+    Bytes bytes;
+    append(bytes, mine);
+    std::vector<T> all;
+    for (const Bytes& from : comm_.gather(bytes)) {
+      const std::vector<T> part = records<T>(from);
+      all.insert(all.end(), part.begin(), part.end());
+    }
+    const Traffic spent = comm_.traffic() - before;
+    report_.gathers.messages += spent.messages;
+    report_.gathers.message_bytes += spent.message_bytes;
+    return all;
+  }
+
+  std::vector<AxonRecord> gather_records() {
+    std::vector<AxonRecord> mine = done_;
+    for (std::size_t k = 0; k < grow_.size(); ++k) mine.push_back(grow_.record(k));
+    return gather(mine);
+  }
+
+  const Scene& scene_;
+  const Decomposition& d_;
+  Comm& comm_;
+  int rank_;
+  std::size_t n_;
+  AxonStages stages_;
+  bool modulated_;
+  std::unique_ptr<CueField> field_;  // null for direct guidance; analytic and imposed only
+  RankReport& report_;
+  std::vector<int> neighbours_;
+  std::vector<int> peer_of_;  // rank -> index in neighbours_, -1 when not adjacent
+  CellGrid grid_;
+  Growing grow_;
+  std::vector<AxonRecord> done_;  // connected or exited here
+  StepStats stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> make_decomposed_engine(const Scene& scene, const Decomposition& d, Comm& comm,
+                                               RankSomas somas, RankReport& report) {
+  return std::make_unique<DecomposedEngine>(scene, d, comm, std::move(somas), report);
+}
+
+RankSomas rank_somas(const std::vector<Vec3>& all, const Decomposition& d, int rank) {
+  RankSomas s;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (!d.near(rank, all[i], d.halo)) continue;
+    s.id.push_back(static_cast<std::uint32_t>(i));
+    s.pos.push_back(all[i]);
+    s.owned.push_back(d.owner(all[i]) == rank);
+  }
+  return s;
+}
+
+}  // namespace axg::distributed

@@ -1,0 +1,144 @@
+#include "axonguide/distributed/local_group.hpp"
+
+#include <algorithm>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "axonguide/threads.hpp"
+
+namespace axg::distributed {
+
+namespace {
+
+// Thrown in the ranks that wait in a collective when another rank has failed.
+struct GroupBroken : std::runtime_error {
+  GroupBroken() : std::runtime_error("another rank of the local group failed") {}
+};
+
+struct Shared {
+  explicit Shared(int k) : size(k), slot(k), matrix(k, std::vector<Bytes>(k)), values(k), peers(k) {}
+  int size;
+  std::mutex m;
+  std::condition_variable cv;
+  int arrived = 0;
+  std::uint64_t generation = 0;
+  bool broken = false;
+  std::vector<Bytes> slot;                 // one contribution per rank
+  std::vector<std::vector<Bytes>> matrix;  // [from][to] for exchanges
+  std::vector<std::vector<std::uint64_t>> values;
+  std::vector<std::vector<int>> peers;
+
+  void sync() {
+    std::unique_lock lk(m);
+    if (broken) throw GroupBroken();
+    const std::uint64_t gen = generation;
+    if (++arrived == size) {
+      arrived = 0;
+      ++generation;
+      cv.notify_all();
+      return;
+    }
+    cv.wait(lk, [&] { return generation != gen || broken; });
+    if (broken) throw GroupBroken();
+  }
+  void brake() {
+    std::lock_guard lk(m);
+    broken = true;
+    cv.notify_all();
+  }
+};
+
+class LocalComm final : public Comm {
+ public:
+  LocalComm(Shared& s, int rank) : s_(s), rank_(rank) {}
+  int rank() const override { return rank_; }
+  int size() const override { return s_.size; }
+
+  std::vector<Bytes> allgather(const Bytes& mine) override {
+    count_collective(mine.size());
+    s_.slot[rank_] = mine;
+    s_.sync();
+    std::vector<Bytes> all = s_.slot;
+    s_.sync();
+    return all;
+  }
+
+  void allreduce(std::vector<std::uint64_t>& v, Reduce op) override {
+    count_collective(v.size() * 8);
+    s_.values[rank_] = v;
+    s_.sync();
+    for (int r = 0; r < s_.size; ++r) {
+      if (r == rank_) continue;
+      const auto& o = s_.values[r];
+      for (std::size_t i = 0; i < v.size(); ++i)
+        v[i] = op == Reduce::kSum ? v[i] + o[i] : op == Reduce::kMax ? std::max(v[i], o[i]) : (v[i] | o[i]);
+    }
+    s_.sync();
+  }
+
+  void set_neighbours(const std::vector<int>& peers) override { s_.peers[rank_] = peers; }
+
+  std::vector<Bytes> exchange(const std::vector<Bytes>& out) override {
+    const std::vector<int>& peers = s_.peers[rank_];
+    count_collective(peers.size() * 4);  // the counts, as MPI_Neighbor_alltoall sends them
+    for (std::size_t k = 0; k < peers.size(); ++k) {
+      s_.matrix[rank_][peers[k]] = out[k];
+      if (!out[k].empty()) ++traffic_.messages, traffic_.message_bytes += out[k].size();
+    }
+    s_.sync();
+    std::vector<Bytes> in(peers.size());
+    for (std::size_t k = 0; k < peers.size(); ++k) in[k] = std::move(s_.matrix[peers[k]][rank_]);
+    s_.sync();
+    return in;
+  }
+
+  std::vector<Bytes> gather(const Bytes& mine) override {
+    if (rank_ != 0) ++traffic_.messages, traffic_.message_bytes += mine.size();
+    s_.slot[rank_] = mine;
+    s_.sync();
+    std::vector<Bytes> all;
+    if (rank_ == 0) all = s_.slot;
+    s_.sync();
+    return all;
+  }
+
+ private:
+  void count_collective(std::size_t bytes) {
+    ++traffic_.collectives;
+    traffic_.collective_bytes += bytes;
+  }
+  Shared& s_;
+  int rank_;
+};
+
+}  // namespace
+
+void run_local_group(int ranks, int threads, const std::function<void(Comm&)>& fn) {
+  if (ranks < 1) throw std::invalid_argument("run_local_group: at least one rank");
+  Shared shared(ranks);
+  std::vector<std::exception_ptr> errors(ranks);
+  std::vector<bool> first_hand(ranks, false);
+  std::vector<std::thread> pool;
+  for (int r = 0; r < ranks; ++r)
+    pool.emplace_back([&, r] {
+      LocalComm comm(shared, r);
+      try {
+        with_threads(threads, [&] { fn(comm); });
+      } catch (const GroupBroken&) {
+        errors[r] = std::current_exception();
+        shared.brake();
+      } catch (...) {
+        errors[r] = std::current_exception();
+        first_hand[r] = true;
+        shared.brake();
+      }
+    });
+  for (auto& t : pool) t.join();
+  for (int r = 0; r < ranks; ++r)
+    if (first_hand[r]) std::rethrow_exception(errors[r]);
+}
+
+}  // namespace axg::distributed

@@ -1,0 +1,157 @@
+#include "axonguide/distributed/mpi_comm.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <climits>
+
+#include <fmt/format.h>
+
+#include "axonguide/error.hpp"
+
+namespace axg::distributed {
+
+namespace {
+
+void check(int rc, const char* call) {
+  if (rc == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int len = 0;
+  MPI_Error_string(rc, text, &len);
+  throw RunError(fmt::format("{} failed: {}", call, std::string(text, static_cast<std::size_t>(len))));
+}
+
+int as_int(std::size_t n, const char* what) {
+  if (n > static_cast<std::size_t>(INT_MAX))
+    throw RunError(fmt::format("{}: {} bytes exceed one MPI message", what, n));
+  return static_cast<int>(n);
+}
+
+constexpr std::size_t kChunk = std::size_t{1} << 30;
+constexpr int kGatherTag = 71;
+
+class MpiComm final : public Comm {
+ public:
+  MpiComm() {
+    check(MPI_Comm_dup(MPI_COMM_WORLD, &comm_), "MPI_Comm_dup");
+    MPI_Comm_set_errhandler(comm_, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(comm_, &rank_);
+    MPI_Comm_size(comm_, &size_);
+  }
+  ~MpiComm() override {
+    if (graph_ != MPI_COMM_NULL) MPI_Comm_free(&graph_);
+    MPI_Comm_free(&comm_);
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+
+  std::vector<Bytes> allgather(const Bytes& mine) override {
+    count_collective(mine.size());
+    std::vector<std::uint64_t> sizes(static_cast<std::size_t>(size_));
+    std::uint64_t n = mine.size();
+    check(MPI_Allgather(&n, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, comm_), "MPI_Allgather");
+    std::vector<int> counts(size_), displs(size_);
+    std::size_t total = 0;
+    for (int r = 0; r < size_; ++r) {
+      counts[r] = as_int(sizes[r], "all-gather");
+      displs[r] = as_int(total, "all-gather");
+      total += sizes[r];
+    }
+    as_int(total, "all-gather");
+    Bytes all(total);
+    check(MPI_Allgatherv(mine.data(), counts[rank_], MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
+                         comm_),
+          "MPI_Allgatherv");
+    std::vector<Bytes> out(size_);
+    for (int r = 0; r < size_; ++r) out[r].assign(all.begin() + displs[r], all.begin() + displs[r] + counts[r]);
+    return out;
+  }
+
+  void allreduce(std::vector<std::uint64_t>& v, Reduce op) override {
+    count_collective(v.size() * 8);
+    const MPI_Op mop = op == Reduce::kSum ? MPI_SUM : op == Reduce::kMax ? MPI_MAX : MPI_BOR;
+    check(MPI_Allreduce(MPI_IN_PLACE, v.data(), as_int(v.size(), "all-reduce"), MPI_UINT64_T, mop, comm_),
+          "MPI_Allreduce");
+  }
+
+  void set_neighbours(const std::vector<int>& peers) override {
+    if (graph_ != MPI_COMM_NULL) MPI_Comm_free(&graph_);
+    peers_ = peers;
+    const int n = static_cast<int>(peers.size());
+    check(MPI_Dist_graph_create_adjacent(comm_, n, peers.data(), MPI_UNWEIGHTED, n, peers.data(), MPI_UNWEIGHTED,
+                                         MPI_INFO_NULL, 0, &graph_),
+          "MPI_Dist_graph_create_adjacent");
+    MPI_Comm_set_errhandler(graph_, MPI_ERRORS_RETURN);
+  }
+
+  std::vector<Bytes> exchange(const std::vector<Bytes>& out) override {
+    const std::size_t n = peers_.size();
+    count_collective(n * 4);
+    std::vector<int> send_counts(n), recv_counts(n), send_displs(n), recv_displs(n);
+    Bytes send;
+    for (std::size_t k = 0; k < n; ++k) {
+      send_displs[k] = as_int(send.size(), "exchange");
+      send_counts[k] = as_int(out[k].size(), "exchange");
+      send.insert(send.end(), out[k].begin(), out[k].end());
+      if (!out[k].empty()) ++traffic_.messages, traffic_.message_bytes += out[k].size();
+    }
+    check(MPI_Neighbor_alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, graph_),
+          "MPI_Neighbor_alltoall");
+    std::size_t total = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      recv_displs[k] = as_int(total, "exchange");
+      total += static_cast<std::size_t>(recv_counts[k]);
+    }
+    Bytes recv(total);
+    check(MPI_Neighbor_alltoallv(send.data(), send_counts.data(), send_displs.data(), MPI_BYTE, recv.data(),
+                                 recv_counts.data(), recv_displs.data(), MPI_BYTE, graph_),
+          "MPI_Neighbor_alltoallv");
+    std::vector<Bytes> in(n);
+    for (std::size_t k = 0; k < n; ++k)
+      in[k].assign(recv.begin() + recv_displs[k], recv.begin() + recv_displs[k] + recv_counts[k]);
+    return in;
+  }
+
+  std::vector<Bytes> gather(const Bytes& mine) override {
+    std::vector<Bytes> all;
+    if (rank_ != 0) {
+      std::uint64_t n = mine.size();
+      check(MPI_Send(&n, 1, MPI_UINT64_T, 0, kGatherTag, comm_), "MPI_Send");
+      for (std::size_t at = 0; at < mine.size(); at += kChunk) {
+        const std::size_t len = std::min(kChunk, mine.size() - at);
+        check(MPI_Send(mine.data() + at, static_cast<int>(len), MPI_BYTE, 0, kGatherTag, comm_), "MPI_Send");
+        ++traffic_.messages;
+        traffic_.message_bytes += len;
+      }
+      return all;
+    }
+    all.resize(static_cast<std::size_t>(size_));
+    all[0] = mine;
+    for (int r = 1; r < size_; ++r) {
+      std::uint64_t n = 0;
+      check(MPI_Recv(&n, 1, MPI_UINT64_T, r, kGatherTag, comm_, MPI_STATUS_IGNORE), "MPI_Recv");
+      all[r].resize(n);
+      for (std::size_t at = 0; at < n; at += kChunk) {
+        const std::size_t len = std::min<std::size_t>(kChunk, n - at);
+        check(MPI_Recv(all[r].data() + at, static_cast<int>(len), MPI_BYTE, r, kGatherTag, comm_, MPI_STATUS_IGNORE),
+              "MPI_Recv");
+      }
+    }
+    return all;
+  }
+
+ private:
+  void count_collective(std::size_t bytes) {
+    ++traffic_.collectives;
+    traffic_.collective_bytes += bytes;
+  }
+  MPI_Comm comm_ = MPI_COMM_NULL, graph_ = MPI_COMM_NULL;
+  int rank_ = 0, size_ = 1;
+  std::vector<int> peers_;
+};
+
+}  // namespace
+
+std::unique_ptr<Comm> make_mpi_comm() { return std::make_unique<MpiComm>(); }
+
+}  // namespace axg::distributed

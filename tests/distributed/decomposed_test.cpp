@@ -1,0 +1,317 @@
+// One network decomposed over ranks (docs/scaling.md §2), with the ranks as threads of
+// this process (run_local_group): the same collectives as MPI, so these properties hold
+// for the MPI transport too, which tests/distributed/check_mpi_run.sh compares end to end.
+//  - the decomposed placement is place_neurons' placement, bit for bit, for any rank count
+//    and id block, the failing neuron included; each rank keeps exactly its block's somas
+//    and those within its halo;
+//  - a decomposed run writes the one-process files, byte for byte, for any rank count,
+//    with direct guidance and the analytic and imposed fields, growth-rate modulation,
+//    both contact rules and paths;
+//  - a checkpoint taken by K ranks resumes on K' ranks (or one process) to the same bytes;
+//  - decompositions that cannot proceed are refused with the message of the issue.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <atomic>
+#include <optional>
+#include <string>
+
+#include "axonguide/checkpoint.hpp"
+#include "axonguide/core/random.hpp"
+#include "axonguide/distributed/decomposed_run.hpp"
+#include "axonguide/distributed/local_group.hpp"
+#include "axonguide/distributed/placement.hpp"
+#include "axonguide/json_input.hpp"
+#include "axonguide/placement.hpp"
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+using core::bits_of;
+using core::Vec3;
+using distributed::Comm;
+using distributed::DecomposedRun;
+
+bool same_bits(Vec3 a, Vec3 b) {
+  return bits_of(a.x) == bits_of(b.x) && bits_of(a.y) == bits_of(b.y) && bits_of(a.z) == bits_of(b.z);
+}
+
+Scene golden_scene(const std::string& name) {
+  return load_scene_file(test::source_dir() + "/data/golden/" + name + "/scene.json").scene;
+}
+
+// Runs the scene over `ranks` in-process ranks and writes rank 0's result into dir.
+// `resume`: continue from this checkpoint. Returns the run facts.
+nlohmann::json run_decomposed(const Scene& scene, int ranks, const test::fs::path& dir,
+                              const RunCheckpoint* resume = nullptr,
+                              std::optional<RunCheckpoint>* checkpoint_at = nullptr, std::uint32_t at_step = 0) {
+  nlohmann::json facts;
+  distributed::run_local_group(ranks, 1, [&](Comm& comm) {
+    DecomposedRun run(scene, comm);
+    RunOptions options;
+    run.attach(options);
+    std::optional<RunCheckpoint> mine;
+    if (resume) mine = *resume;  // each rank reads its own copy of the file
+    options.resume = mine ? &*mine : nullptr;
+    if (checkpoint_at)
+      options.on_checkpoint = [&](const RunResult& r, std::uint32_t step, const EngineState& e) {
+        if (!comm.root() || step != at_step) return;
+        RunCheckpoint c;
+        c.step = step;
+        c.scene_hash = scene_hash(scene);
+        c.progress = r;
+        c.engine = e;
+        *checkpoint_at = std::move(c);
+      };
+    RunResult r = run_scene(scene, options);
+    const nlohmann::json f = run.facts();
+    if (comm.root()) {
+      write_outputs(r, dir, "test", 1, {});
+      facts = f;
+    }
+  });
+  return facts;
+}
+
+std::map<std::string, std::string> one_process(const Scene& scene) { return test::run_hashes(scene, 2); }
+
+// --- placement -------------------------------------------------------------------------
+
+RC_GTEST_PROP(decomposed, PlacementIsTheOneProcessPlacement, ()) {
+  Scene s;
+  s.guidance.model = GuidanceModel::kDirect;
+  s.seed = *rc::gen::arbitrary<std::uint64_t>();
+  s.neurons.count = *rc::gen::inRange<std::uint64_t>(2, 5000);
+  s.neurons.shape = *rc::gen::element(RegionShape::kBall, RegionShape::kBox, RegionShape::kSphere);
+  s.neurons.sampler = *rc::gen::element(Sampler::kRejection, Sampler::kNormal, Sampler::kTrig);
+  s.neurons.radius = 10.0;
+  const double phi = *rc::gen::element(0.01, 0.1, 0.3, 0.45);
+  const double n = static_cast<double>(s.neurons.count);
+  s.neurons.soma_radius = s.neurons.shape == RegionShape::kSphere ? 10.0 * std::sqrt(4.0 * phi / n)
+                                                                  : 10.0 * std::cbrt(phi / n);
+  s.neurons.soma_radius = std::min(s.neurons.soma_radius, 1.5);
+  s.neurons.max_attempts = *rc::gen::element(1u, 3u, 1000u);
+  s.neurons.overlap_reject = *rc::gen::element(true, true, true, false);
+  if (*rc::gen::element(false, true) && s.neurons.shape != RegionShape::kSphere) {
+    s.neurons.populations = {Population{s.neurons.count / 2, {-4.0, 0, 0}, 5.0},
+                             Population{s.neurons.count - s.neurons.count / 2, {4.0, 0, 0}, 5.0}};
+    s.neurons.soma_radius = 5.0 * std::cbrt(std::min(phi, 0.3) / n * 2.0);
+  }
+  const int ranks = *rc::gen::inRange(1, 9);
+  const std::size_t id_block = *rc::gen::element<std::size_t>(s.neurons.count / 3 + 1, 97, 4096, 16384);
+  RC_TAG(ranks);
+
+  std::optional<Placement> expected;
+  std::string expected_error;
+  try {
+    expected = place_neurons(s);
+  } catch (const RunError& e) {
+    expected_error = e.what();
+  }
+  const distributed::Decomposition d = distributed::decompose(s, ranks);
+  std::vector<distributed::RankSomas> kept(static_cast<std::size_t>(ranks));
+  std::vector<Vec3> all;
+  std::uint64_t redraws = 0;
+  std::string error;
+  try {
+    distributed::run_local_group(ranks, 1, [&](Comm& comm) {
+      distributed::DecomposedPlacement p = distributed::place_decomposed(s, d, comm, id_block);
+      kept[static_cast<std::size_t>(comm.rank())] = std::move(p.somas);
+      if (comm.root()) all = std::move(p.all), redraws = p.redraws;
+    });
+  } catch (const RunError& e) {
+    error = e.what();
+  }
+  RC_ASSERT(error == expected_error);
+  if (!expected) return;
+  RC_ASSERT(redraws == expected->redraws);
+  RC_ASSERT(all.size() == expected->soma.size());
+  for (std::size_t i = 0; i < all.size(); ++i) RC_ASSERT(same_bits(all[i], expected->soma[i]));
+  for (int r = 0; r < ranks; ++r) {
+    const distributed::RankSomas& k = kept[static_cast<std::size_t>(r)];
+    std::size_t j = 0;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (!d.near(r, all[i], d.halo)) continue;
+      RC_ASSERT(j < k.id.size());
+      RC_ASSERT(k.id[j] == i);
+      RC_ASSERT(same_bits(k.pos[j], all[i]));
+      RC_ASSERT(k.owned[j] == (d.owner(all[i]) == r));
+      ++j;
+    }
+    RC_ASSERT(j == k.id.size());
+  }
+}
+
+// --- runs --------------------------------------------------------------------------------
+
+// Direct guidance, and the analytic and imposed fields of the golden scenes, with random
+// seeds, rank counts, step lengths, modulation and paths.
+rc::Gen<Scene> gen_decomposable_scene() {
+  return rc::gen::exec([] {
+    Scene s = *test::gen_direct_scene();
+    const int kind = *rc::gen::inRange(0, 4);
+    if (kind > 0) {
+      const char* names[] = {"", "analytic-snr", "analytic-vector-sum-box", "imposed-explant-units"};
+      Scene g = golden_scene(names[kind]);
+      g.seed = s.seed;
+      g.steps = *rc::gen::inRange<std::uint32_t>(1, 40);
+      g.neurons.count = *rc::gen::inRange<std::uint64_t>(1, 600);
+      g.output.paths = s.output.paths;
+      if (*rc::gen::arbitrary<bool>()) g.axons.growth_modulation = *rc::gen::inRange(1, 9) / 10.0;
+      s = g;
+    }
+    s.output.graphml = true;
+    return s;
+  });
+}
+
+RC_GTEST_PROP(decomposed, RunWritesTheOneProcessBytes, ()) {
+  const Scene s = *gen_decomposable_scene();
+  const int ranks = *rc::gen::inRange(1, 9);
+  RC_TAG(ranks, name_of(s.guidance.model));
+  try {
+    distributed::decompose(s, ranks);
+  } catch (const InputError& e) {
+    RC_ASSERT(std::string(e.what()).find("narrower than the halo") != std::string::npos);
+    RC_SUCCEED("too many ranks for this scene: refused");
+  }
+  const auto expected = one_process(s);
+  test::TempDir dir;
+  const nlohmann::json facts = run_decomposed(s, ranks, dir.path());
+  RC_ASSERT(test::output_hashes(dir.path()) == expected);
+  RC_ASSERT(facts["ranks"] == ranks);
+  RC_ASSERT(facts["somas_per_rank"]["max"].get<std::uint64_t>() <= s.neurons.count);
+}
+
+// A bigger run, with a fixed rank count per case: every file, and migration really
+// happening (the facts count the axons sent to neighbours).
+TEST(decomposed, DefaultSizedDirectRunOnOneTwoFourAndEightRanks) {
+  Scene s = load_scene_file(test::source_dir() + "/scenes/paper-direct-5000.json").scene;
+  s.output.paths = true;
+  const auto expected = one_process(s);
+  for (int ranks : {1, 2, 4, 8}) {
+    test::TempDir dir;
+    const nlohmann::json facts = run_decomposed(s, ranks, dir.path());
+    EXPECT_EQ(test::output_hashes(dir.path()), expected) << ranks << " ranks";
+    if (ranks > 1) {
+      EXPECT_GT(facts["per_step"]["migrated_axons"].get<double>(), 0.0) << facts.dump();
+    }
+  }
+}
+
+TEST(decomposed, CheckpointFromSomeRanksResumesOnOthers) {
+  Scene s = golden_scene("analytic-snr");
+  s.neurons.count = 800;
+  s.neurons.radius = 7.0;
+  s.steps = 30;
+  s.axons.growth_modulation = 0.5;
+  s.output.paths = true;
+  s.output.checkpoint_every = 10;
+  const auto expected = one_process(s);
+  for (const auto& [from, to] : {std::pair{3, 2}, std::pair{2, 4}, std::pair{4, 1}}) {
+    std::optional<RunCheckpoint> c;
+    test::TempDir first;
+    run_decomposed(s, from, first.path(), nullptr, &c, 20);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_EQ(c->step, 20u);
+    test::TempDir dir;
+    run_decomposed(s, to, dir.path(), &*c);
+    EXPECT_EQ(test::output_hashes(dir.path()), expected) << from << " ranks, resumed on " << to;
+    // One process resumes the same checkpoint.
+    RunOptions options;
+    RunCheckpoint copy = *c;
+    options.resume = &copy;
+    test::TempDir single;
+    write_outputs(with_threads(2, [&] { return run_scene(s, options); }), single.path(), "test", 2, {});
+    EXPECT_EQ(test::output_hashes(single.path()), expected);
+  }
+}
+
+TEST(decomposed, PlacementTooDenseFailsOnEveryRankWithTheOneProcessMessage) {
+  Scene s;
+  s.guidance.model = GuidanceModel::kDirect;
+  s.neurons.count = 3000;
+  s.neurons.radius = 5.0;
+  s.neurons.soma_radius = 0.3;  // packing 0.65: random sequential addition jams before
+  s.neurons.max_attempts = 50;
+  std::string jam_one, jam_many;
+  std::atomic<int> errors{0};
+  try {
+    place_neurons(s);
+  } catch (const RunError& e) {
+    jam_one = e.what();
+  }
+  ASSERT_NE(jam_one.find("still overlaps"), std::string::npos) << jam_one;
+  try {
+    distributed::run_local_group(4, 1, [&](Comm& comm) {
+      DecomposedRun run(s, comm);
+      RunOptions options;
+      run.attach(options);
+      try {
+        run_scene(s, options);
+      } catch (const distributed::OnEveryRank& e) {
+        try {
+          std::rethrow_exception(e.error);
+        } catch (const RunError& inner) {
+          if (comm.root()) jam_many = inner.what();
+        }
+        ++errors;
+      }
+    });
+  } catch (const std::exception& e) {
+    FAIL() << "a rank failed alone: " << e.what();
+  }
+  EXPECT_EQ(errors.load(), 4);
+  EXPECT_EQ(jam_many, jam_one);
+}
+
+TEST(decomposed, RefusesWhatItCannotDecompose) {
+  Scene s;
+  s.guidance.model = GuidanceModel::kDirect;
+  s.neurons.radius = 2.0;
+  try {
+    distributed::decompose(s, 343);
+    FAIL() << "343 ranks for a region of radius 2";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("343 ranks: the domain (a cube of edge 4.5 LU) cut 7 x 7 x 7 gives blocks 0.6429 LU wide, "
+                     "narrower than the halo of 0.6506 LU"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("at most 6 blocks along an axis (at most 216 ranks)"), std::string::npos) << m;
+  }
+  EXPECT_EQ(distributed::decompose(s, 216).blocks, (std::array<int, 3>{6, 6, 6}));
+  EXPECT_THROW(distributed::decompose(s, 7), InputError);  // 7 x 1 x 1: 0.64 LU blocks
+  Scene particles;  // the default: cue guidance through the particle field
+  try {
+    distributed::decompose(particles, 2);
+    FAIL() << "the particle field is not decomposed";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("particles field's decomposition"), std::string::npos) << e.what();
+  }
+}
+
+TEST(decomposed, BlocksAreTheMostCubicFactorisation) {
+  Scene s;
+  s.guidance.model = GuidanceModel::kDirect;
+  s.neurons.radius = 20.0;
+  const std::pair<int, std::array<int, 3>> cases[] = {
+      {1, {1, 1, 1}}, {2, {2, 1, 1}}, {3, {3, 1, 1}}, {4, {2, 2, 1}}, {6, {3, 2, 1}}, {8, {2, 2, 2}}, {12, {3, 2, 2}}};
+  for (const auto& [k, blocks] : cases) {
+    const distributed::Decomposition d = distributed::decompose(s, k);
+    EXPECT_EQ(d.blocks, blocks) << k;
+    // Every rank's neighbours are symmetric, and every point has one owner.
+    for (int r = 0; r < k; ++r)
+      for (int q : d.neighbours(r)) {
+        const auto back = d.neighbours(q);
+        EXPECT_TRUE(std::find(back.begin(), back.end(), r) != back.end());
+      }
+    EXPECT_EQ(d.owner({-1e9, -1e9, -1e9}), 0);
+    EXPECT_EQ(d.owner({1e9, 1e9, 1e9}), k - 1);
+    EXPECT_TRUE(d.near(0, {-1e9, 0, 0}, 0.0));
+  }
+}
+
+}  // namespace
+}  // namespace axg

@@ -13,7 +13,9 @@
 
 #include "axonguide/checkpoint.hpp"
 #include "axonguide/cue_setup.hpp"
+#include "axonguide/distributed/decomposed_run.hpp"
 #include "axonguide/distributed/launch.hpp"
+#include "axonguide/distributed/mpi_comm.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
@@ -227,55 +229,116 @@ Job resume_job(const RunArgs& args, const fs::path& dir) {
   return job;
 }
 
-}  // namespace
-
-int cmd_run(const RunArgs& args) {
-  const auto t0 = std::chrono::steady_clock::now();
-  // One network decomposed over ranks is not built: K copies of one run into one folder
-  // would only fight over it. Rank 0 says so; the others exit after giving it time to.
-  if (const distributed::Launch launch = distributed::detect_launch(); launch.under_mpirun()) {
-    if (launch.rank != 0) {
-      std::this_thread::sleep_for(std::chrono::seconds(1));
-      return kExitCannotRun;
-    }
-    throw RunError(fmt::format("started as one of {} ranks by mpirun: a run decomposed over ranks is not built yet "
-                               "(only sweeps run over ranks); run it without mpirun, or with -np 1",
-                               launch.size));
+// The ranks of a run decomposed over mpirun's ranks (docs/scaling.md): rank 0 does all that
+// a one-process run does (the folder, checkpoints, outputs, messages); every rank places,
+// steps and gathers with it, and all end with one exit code. Errors that every rank meets
+// alike (bad input, a decomposition that cannot proceed, placement too dense) end them
+// together, with rank 0's message; an error one rank meets alone ends the job (MPI_Abort),
+// since the others would wait for it in a collective forever.
+struct Ranks {
+  distributed::Comm& comm;
+  std::unique_ptr<distributed::DecomposedRun> run;
+  bool root() const { return comm.root(); }
+  std::uint64_t most(std::uint64_t v) {
+    std::vector<std::uint64_t> x{v};
+    comm.allreduce(x, distributed::Reduce::kMax);
+    return x[0];
   }
+};
+
+// A rank other than 0 ends with the run's exit code and says nothing: rank 0 speaks.
+struct QuietExit {
+  int code;
+};
+
+int exit_code_of(const std::exception_ptr& e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const InputError&) {
+    return kExitBadInput;
+  } catch (...) {
+    return kExitCannotRun;
+  }
+}
+
+// Runs fn on every rank (one process: just runs it); when it failed on any, every rank
+// stops: rank 0 with its error, the others quietly.
+template <class Fn>
+void together(Ranks* ranks, Fn&& fn) {
+  if (!ranks) return fn();
+  std::exception_ptr error;
+  try {
+    fn();
+  } catch (...) {
+    error = std::current_exception();
+  }
+  const int code = static_cast<int>(ranks->most(error ? static_cast<std::uint64_t>(exit_code_of(error)) : 0));
+  if (code == kExitOk) return;
+  if (!ranks->root()) throw QuietExit{code};
+  if (error) std::rethrow_exception(error);
+  throw RunError(fmt::format("another rank could not start the run (exit {}); every rank must see the same files",
+                             code));
+}
+
+// fn on rank 0 alone (the folder); the others wait for its outcome.
+template <class Fn>
+void on_root(Ranks* ranks, Fn&& fn) {
+  together(ranks, [&] {
+    if (!ranks || ranks->root()) fn();
+  });
+}
+
+Job fresh_job(const RunArgs& args) {
+  Job job;
+  ParseResult parsed;
+  if (args.scene_path.empty()) {
+    parsed.scene = Scene::builtin_default();
+    job.origin = "built-in default";
+  } else {
+    parsed = load_scene_file(args.scene_path);
+    job.origin = args.scene_path;
+  }
+  job.scene = parsed.scene;
+  job.warnings = parsed.warnings;
+  if (args.seed_given) job.scene.seed = parse_seed(args.seed);
+  if (args.vtk) {
+    job.scene.output.vtk = true;
+    resolve_output_dependencies(job.scene, job.warnings);
+  }
+  return job;
+}
+
+int run_job(const RunArgs& args, Ranks* ranks, int threads) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool root = !ranks || ranks->root();
   const bool resuming = !args.resume.empty();
   const fs::path dir = resuming ? fs::path(args.resume) : fs::path(args.out_dir);
-  if (resuming) {
-    if (args.out_given && fs::path(args.out_dir) != dir)
-      throw InputError("--resume DIR writes into DIR: give no --out (or the same folder)");
-    if (args.seed_given) throw InputError("--seed with --resume: the seed is the one the run started with");
-    if (args.force) throw InputError("--force with --resume: give one (--force starts over, --resume continues)");
-    if (args.vtk) throw InputError("--vtk with --resume: the outputs are the ones the run started with");
-    if (!fs::is_directory(dir)) throw InputError(fmt::format("--resume {}: not a directory", dir.string()));
-  }
   Job job;
-  if (!resuming) {
-    ParseResult parsed;
-    if (args.scene_path.empty()) {
-      parsed.scene = Scene::builtin_default();
-      job.origin = "built-in default";
-    } else {
-      parsed = load_scene_file(args.scene_path);
-      job.origin = args.scene_path;
-    }
-    job.scene = parsed.scene;
-    job.warnings = parsed.warnings;
-    if (args.seed_given) job.scene.seed = parse_seed(args.seed);
-    if (args.vtk) {
-      job.scene.output.vtk = true;
-      resolve_output_dependencies(job.scene, job.warnings);
-    }
-  }
-  // Everything that can refuse the run does so before the folder is created or touched.
-  require_backend(args.backend);
   RunOptions options;
-  options.make_engine = engine_factory(args.backend);
-  const int threads = resolve_threads(args.threads);
-  if (!resuming) check_memory_estimate(estimate_run_bytes(job.scene), fmt::format("a run of {} neurons", job.scene.neurons.count));
+  // Everything that can refuse the run does so before the folder is created or touched.
+  together(ranks, [&] {
+    if (resuming) {
+      if (args.out_given && fs::path(args.out_dir) != dir)
+        throw InputError("--resume DIR writes into DIR: give no --out (or the same folder)");
+      if (args.seed_given) throw InputError("--seed with --resume: the seed is the one the run started with");
+      if (args.force) throw InputError("--force with --resume: give one (--force starts over, --resume continues)");
+      if (args.vtk) throw InputError("--vtk with --resume: the outputs are the ones the run started with");
+      if (!fs::is_directory(dir)) throw InputError(fmt::format("--resume {}: not a directory", dir.string()));
+    } else {
+      job = fresh_job(args);
+    }
+    require_backend(args.backend);
+    if (ranks && args.backend != "reference")
+      throw RunError(fmt::format(
+          "--backend {} under mpirun: a decomposed run steps each rank's block on the reference engine; one block per "
+          "GPU is designed (docs/scaling.md §2.6) but not built",
+          args.backend));
+    options.make_engine = engine_factory(args.backend);
+    if (!resuming) {
+      check_memory_estimate(estimate_run_bytes(job.scene), fmt::format("a run of {} neurons", job.scene.neurons.count));
+      if (ranks) ranks->run = std::make_unique<distributed::DecomposedRun>(job.scene, ranks->comm);
+    }
+  });
   // A fresh run that fails before it has anything to resume (placement too dense, out of
   // memory) takes its running manifest back, and the folder when it made it.
   struct RemoveIfEmpty {
@@ -286,80 +349,131 @@ int cmd_run(const RunArgs& args) {
       if (armed && fs::is_empty(dir, ec)) fs::remove(dir, ec);
     }
   } cleanup{dir, false};
-  const bool made_dir = !fs::exists(dir);
-  prepare_output_dir(dir);
-  FolderLock lock(dir);
-  if (resuming) {
-    job = resume_job(args, dir);
-    const FolderCheck check = verify_run_folder(dir);
-    if (check.status == "complete") {
-      if (!check.whole)
-        throw InputError(fmt::format("--resume {}: holds a complete run that does not verify (see `axonguide verify "
-                                     "{}`); give --force to replace it",
-                                     dir.string(), dir.string()));
-      if (!args.quiet) fmt::print("{} already holds a complete run that verifies; nothing to resume\n", dir.string());
-      return kExitOk;
-    }
-    if (!job.checkpoint && !args.quiet)
-      std::fprintf(stderr, "axonguide: note: %s has no checkpoint yet; the run starts again from step 0\n", dir.c_str());
-  }
-  FolderClaim claim;
-  if (!resuming) claim = claim_run_folder(dir, args.force);
-  for (const auto& name : claim.foreign)
-    if (is_run_output(name) || name == "view.html" || name.rfind("assay", 0) == 0 || name.rfind("plot", 0) == 0)
-      std::fprintf(stderr, "axonguide: warning: %s/%s is not this run's (its manifest will not list it)\n", dir.c_str(),
-                   name.c_str());
-  for (const auto& w : job.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
-  const Scene& scene = job.scene;
+  const bool made_dir = root && !fs::exists(dir);
+  std::optional<FolderLock> lock;
   json running;
-  if (resuming) {
-    // What the killed run was replacing, if it was killed before it had removed it all.
-    running = job.manifest;
-    const json& m = running;
-    std::vector<std::string> left;
-    if (m.contains("replacing") && m["replacing"].is_array())
-      for (const auto& name : m["replacing"])
-        if (name.is_string() && name.get<std::string>() != kCheckpointName) left.push_back(name.get<std::string>());
-    remove_run_files(dir, left);
-  } else {
-    // The running manifest first: from here on a kill leaves a folder whose manifest
-    // names every file in it (shared with the Python module's Result.write).
-    running = start_fresh_run(dir, claim, scene, args.backend, threads, job.warnings);
+  bool already_complete = false;
+  on_root(ranks, [&] {
+    prepare_output_dir(dir);
+    lock.emplace(dir);
+    FolderClaim claim;
+    if (resuming) {
+      job = resume_job(args, dir);
+      const FolderCheck check = verify_run_folder(dir);
+      if (check.status == "complete") {
+        if (!check.whole)
+          throw InputError(fmt::format("--resume {}: holds a complete run that does not verify (see `axonguide "
+                                       "verify {}`); give --force to replace it",
+                                       dir.string(), dir.string()));
+        already_complete = true;
+        return;
+      }
+      if (ranks) ranks->run = std::make_unique<distributed::DecomposedRun>(job.scene, ranks->comm);
+      if (!job.checkpoint && !args.quiet)
+        std::fprintf(stderr, "axonguide: note: %s has no checkpoint yet; the run starts again from step 0\n",
+                     dir.c_str());
+    } else {
+      claim = claim_run_folder(dir, args.force);
+    }
+    for (const auto& name : claim.foreign)
+      if (is_run_output(name) || name == "view.html" || name.rfind("assay", 0) == 0 || name.rfind("plot", 0) == 0)
+        std::fprintf(stderr, "axonguide: warning: %s/%s is not this run's (its manifest will not list it)\n",
+                     dir.c_str(), name.c_str());
+    for (const auto& w : job.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
+    if (resuming) {
+      // What the killed run was replacing, if it was killed before it had removed it all.
+      running = job.manifest;
+      std::vector<std::string> left;
+      if (running.contains("replacing") && running["replacing"].is_array())
+        for (const auto& name : running["replacing"])
+          if (name.is_string() && name.get<std::string>() != kCheckpointName) left.push_back(name.get<std::string>());
+      remove_run_files(dir, left);
+    } else {
+      // The running manifest first: from here on a kill leaves a folder whose manifest
+      // names every file in it (shared with the Python module's Result.write).
+      running = start_fresh_run(dir, claim, job.scene, args.backend, threads, job.warnings);
+    }
+  });
+  if (ranks && ranks->most(already_complete ? 1 : 0)) already_complete = true;
+  if (already_complete) {
+    if (root && !args.quiet) fmt::print("{} already holds a complete run that verifies; nothing to resume\n", dir.string());
+    return kExitOk;
   }
+  // The other ranks of a resumed run read its scene and checkpoint once rank 0 has
+  // checked the folder.
+  if (ranks && resuming)
+    together(ranks, [&] {
+      if (ranks->root()) return;
+      job = resume_job(args, dir);
+      ranks->run = std::make_unique<distributed::DecomposedRun>(job.scene, ranks->comm);
+    });
+  const Scene& scene = job.scene;
 
   StopSignals signals;
   Progress progress;
-  options.on_step = [&](const StepStats& s, std::uint32_t steps) { progress.update(s, steps); };
+  if (root) options.on_step = [&](const StepStats& s, std::uint32_t steps) { progress.update(s, steps); };
   options.resume = job.checkpoint ? &*job.checkpoint : nullptr;
   options.on_checkpoint = [&](const RunResult& r, std::uint32_t step, const EngineState& e) {
-    write_checkpoint(dir, r, step, e);
+    if (root) write_checkpoint(dir, r, step, e);  // the others took part in gathering it
   };
   options.stop_requested = [] { return StopSignals::received() != 0; };
+  if (ranks) ranks->run->attach(options);
   RunResult result;
+  int code = kExitOk;
   try {
     result = with_threads(threads, [&] {
       RunResult r = run_scene(scene, options);
-      write_outputs(r, dir, args.backend, threads, job.warnings);
+      if (ranks) r.decomposition = ranks->run->facts();
+      if (root) write_outputs(r, dir, args.backend, threads, job.warnings);
       return r;
     });
   } catch (const Interrupted& stop) {
-    json m = running;
-    m["status"] = "interrupted";
-    m["interrupted"] = {{"signal", StopSignals::name()}, {"after_step", stop.step}};
-    m["checkpoint"] = {{"file", kCheckpointName}, {"step", stop.step}, {"sha256", sha256_file(dir / kCheckpointName)}};
-    write_manifest(dir, m);
-    std::fprintf(stderr,
-                 "axonguide: interrupted by %s after step %u of %u; the checkpoint is in %s/%s. Continue with: "
-                 "axonguide run --resume %s\n",
-                 StopSignals::name(), stop.step, scene.steps, dir.c_str(), kCheckpointName, dir.c_str());
-    return StopSignals::exit_code();
-  } catch (...) {
-    std::error_code ec;
-    if (!resuming && !fs::exists(dir / kCheckpointName, ec)) {
-      abandon_fresh_run(dir, scene);
-      cleanup.armed = made_dir;
+    if (root) {
+      json m = running;
+      m["status"] = "interrupted";
+      m["interrupted"] = {{"signal", StopSignals::name()}, {"after_step", stop.step}};
+      m["checkpoint"] = {{"file", kCheckpointName}, {"step", stop.step}, {"sha256", sha256_file(dir / kCheckpointName)}};
+      write_manifest(dir, m);
+      std::fprintf(stderr,
+                   "axonguide: interrupted by %s after step %u of %u; the checkpoint is in %s/%s. Continue with: "
+                   "%saxonguide run --resume %s\n",
+                   StopSignals::name(), stop.step, scene.steps, dir.c_str(), kCheckpointName,
+                   ranks ? "mpirun ... " : "", dir.c_str());
     }
-    throw;
+    // Every rank stopped at this step; they end with rank 0's code (its signal's).
+    const int mine = root ? StopSignals::exit_code() : 0;
+    return ranks ? static_cast<int>(ranks->most(static_cast<std::uint64_t>(mine))) : mine;
+  } catch (...) {
+    std::exception_ptr error = std::current_exception();
+    bool every_rank = !ranks;
+    if (ranks) {
+      try {
+        std::rethrow_exception(error);
+      } catch (const distributed::OnEveryRank& e) {
+        error = e.error;
+        every_rank = true;
+      } catch (...) {
+      }
+    }
+    if (!every_rank) {
+      // Met by this rank alone, perhaps in the middle of collective work: end the job.
+      std::fprintf(stderr, "axonguide: rank %d of %d: ", ranks->comm.rank(), ranks->comm.size());
+      distributed::abort_job(report_error(error));
+    }
+    if (root) {
+      std::error_code ec;
+      if (!resuming && !fs::exists(dir / kCheckpointName, ec)) {
+        abandon_fresh_run(dir, scene);
+        cleanup.armed = made_dir;
+      }
+      if (!ranks) std::rethrow_exception(error);
+      code = report_error(error);
+    }
+    throw QuietExit{ranks ? static_cast<int>(ranks->most(static_cast<std::uint64_t>(code))) : code};
+  }
+  if (ranks && !root) {
+    ranks->most(0);  // rank 0 has written the outputs: its code is the run's
+    return kExitOk;
   }
   std::error_code ec;
   fs::remove(dir / kCheckpointName, ec);  // the run is whole: the checkpoint is not needed
@@ -380,9 +494,44 @@ int cmd_run(const RunArgs& args) {
   if (StopSignals::received()) {
     std::fprintf(stderr, "axonguide: %s arrived after the last step; the outputs were finished first, and %s is a "
                          "whole run\n", StopSignals::name(), dir.c_str());
-    return StopSignals::exit_code();
+    code = StopSignals::exit_code();
   }
-  return kExitOk;
+  if (ranks) ranks->most(static_cast<std::uint64_t>(code));
+  return code;
+}
+
+}  // namespace
+
+int cmd_run(const RunArgs& args) {
+  const distributed::Launch launch = distributed::detect_launch();
+  if (!launch.launched) return run_job(args, nullptr, resolve_threads(args.threads));
+  // Started by mpirun: one network over its ranks, each with its share of the node's cores.
+  const int threads =
+      args.threads > 0 ? args.threads : std::max(1, resolve_threads(0) / std::max(1, launch.local_size));
+#ifdef AXG_HAVE_MPI
+  distributed::MpiSession session;
+  const std::unique_ptr<distributed::Comm> comm = distributed::make_mpi_comm();
+  Ranks ranks{*comm, nullptr};
+  try {
+    session.exit_code = run_job(args, &ranks, threads);
+  } catch (const QuietExit& e) {
+    session.exit_code = e.code;
+  } catch (...) {
+    // Rank 0's error before the ranks began working together: every rank agreed to stop.
+    session.exit_code = report_error(std::current_exception());
+  }
+  return session.exit_code;
+#else
+  // K copies of a build without MPI: rank 0 runs the network alone, the others must not
+  // touch its folder.
+  if (launch.rank != 0) return kExitOk;
+  if (launch.size > 1)
+    std::fprintf(stderr,
+                 "axonguide: note: started as rank 0 of %d by mpirun, but this build has no MPI (install "
+                 "libopenmpi-dev and rebuild): the run goes on in this one process; ranks 1-%d exit\n",
+                 launch.size, launch.size - 1);
+  return run_job(args, nullptr, threads);
+#endif
 }
 
 int cmd_verify(const std::string& dir) {

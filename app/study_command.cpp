@@ -15,6 +15,7 @@
 #include "axonguide/assay.hpp"
 #include "axonguide/csv.hpp"
 #include "axonguide/distributed/launch.hpp"
+#include "axonguide/distributed/mpi_comm.hpp"
 #ifdef AXG_HAVE_MPI
 #include "axonguide/distributed/mpi_sweep.hpp"
 #endif
@@ -149,21 +150,6 @@ int cmd_assay(const std::string& dir_name) {
   return kExitOk;
 }
 
-namespace {
-
-// MPI_Init and MPI_Finalize around the sweep, on every rank; finalize() skips the wait
-// for a rank that died.
-struct MpiSession {
-#ifdef AXG_HAVE_MPI
-  MpiSession() { distributed::init(nullptr, nullptr); }
-  ~MpiSession() { distributed::finalize(rank_died, exit_code); }
-#endif
-  bool rank_died = false;
-  int exit_code = 0;
-};
-
-}  // namespace
-
 int cmd_sweep(const SweepArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const distributed::Launch launch = distributed::detect_launch();
@@ -198,7 +184,7 @@ int cmd_sweep(const SweepArgs& args) {
   };
   sweep::Outcome out;
   std::optional<sweep::Spec> spec;
-  std::optional<MpiSession> session;
+  std::optional<distributed::MpiSession> session;
   if (over_ranks) {
 #ifdef AXG_HAVE_MPI
     session.emplace();

@@ -19,8 +19,8 @@ void DecomposedRun::attach(RunOptions& options) {
     }
     report_.placement = comm_.traffic() - before;
     report_.rounds = p.rounds;
-    report_.second_searches = p.second_searches;
-    report_.scan_searches = p.scan_searches;
+    report_.scan_passes = p.scan_passes;
+    report_.extra_searches = p.extra_searches;
     placed_ = std::move(p.somas);
     Placement out;
     out.soma = std::move(p.all);
@@ -58,8 +58,8 @@ json DecomposedRun::facts() {
           {"somas_per_rank", {{"min", ~most[1]}, {"max", most[0]}}},
           {"halo_somas", sum[1]},
           {"placement", {{"rounds", r.rounds},
-                         {"second_searches", r.second_searches},
-                         {"scan_searches", r.scan_searches},
+                         {"scan_passes", r.scan_passes},
+                         {"extra_searches", r.extra_searches},
                          {"collective_bytes", sum[3]}}},
           {"steps", r.steps_run},
           {"per_step",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <tbb/parallel_for.h>
 
@@ -36,7 +37,9 @@ struct TipRecord {
 // block and its halo (clipped to the domain, where every soma lies). Which cells a search
 // visits changes nothing: find_contact's answer is the best (t, id) over the somas within
 // reach, and all of them are in this grid.
-CellGrid local_soma_grid(const Scene& scene, const Decomposition& d, int rank, const RankSomas& somas) {
+// `order` receives the somas' local indices in the grid's order (by cell, then id).
+CellGrid local_soma_grid(const Scene& scene, const Decomposition& d, int rank, const RankSomas& somas,
+                         std::vector<std::uint32_t>& order) {
   const double cell = soma_grid_geometry(scene).cell;
   const std::array<int, 3> b = d.block(rank);
   double lo[3], n[3];
@@ -52,6 +55,7 @@ CellGrid local_soma_grid(const Scene& scene, const Decomposition& d, int rank, c
   g.ny = static_cast<int>(n[1]);
   g.nz = static_cast<int>(n[2]);
   CellGrid grid = build_cell_grid(g, somas.pos);
+  order = grid.ids;
   for (std::uint32_t& k : grid.ids) k = somas.id[k];  // local index -> neuron id (both ascending)
   return grid;
 }
@@ -72,9 +76,12 @@ class DecomposedEngine final : public Engine {
         peer_of_(static_cast<std::size_t>(d.ranks), -1) {
     for (std::size_t k = 0; k < neighbours_.size(); ++k) peer_of_[neighbours_[k]] = static_cast<int>(k);
     comm_.set_neighbours(neighbours_);
-    grid_ = local_soma_grid(scene, d, rank_, somas);
+    // The axons start in the grid's order, so that neighbouring slots search neighbouring
+    // cells (the reference engine's slot order; it changes memory traffic only).
+    std::vector<std::uint32_t> order;
+    grid_ = local_soma_grid(scene, d, rank_, somas, order);
     std::vector<AxonRecord> start;
-    for (std::size_t s = 0; s < somas.id.size(); ++s) {
+    for (std::uint32_t s : order) {
       if (!somas.owned[s]) {
         ++report_.halo_somas;
         continue;
@@ -164,11 +171,16 @@ class DecomposedEngine final : public Engine {
   }
 
   void tips(std::vector<Vec3>& out) override {
-    std::vector<TipRecord> mine;
-    mine.reserve(grow_.size() + done_.size());
-    for (std::size_t k = 0; k < grow_.size(); ++k) mine.push_back({grow_.tip[k], grow_.id[k]});
-    for (const AxonRecord& r : done_) mine.push_back({r.tip, r.id});
-    const std::vector<TipRecord> all = gather(mine);
+    const std::vector<TipRecord> all = gather<TipRecord>(grow_.size() + done_.size(), [&](Bytes& b) {
+      for (std::size_t k = 0; k < grow_.size(); ++k) {
+        const TipRecord t{grow_.tip[k], grow_.id[k]};
+        append(b, &t, 1);
+      }
+      for (const AxonRecord& r : done_) {
+        const TipRecord t{r.tip, r.id};
+        append(b, &t, 1);
+      }
+    });
     out.clear();
     if (!comm_.root()) return;
     out.resize(n_);
@@ -215,6 +227,16 @@ class DecomposedEngine final : public Engine {
       length.push_back(r.length), step_length.push_back(r.step_length);
       status.push_back(r.status);
     }
+    void move(std::size_t to, std::size_t from) {
+      id[to] = id[from], steps[to] = steps[from], target[to] = target[from];
+      tip[to] = tip[from], heading[to] = heading[from];
+      length[to] = length[from], step_length[to] = step_length[from];
+      status[to] = status[from];
+    }
+    void resize(std::size_t n) {  // slots stay 0..n-1
+      for (auto* v : {&id, &steps, &target, &slots}) v->resize(n);
+      tip.resize(n), heading.resize(n), length.resize(n), step_length.resize(n), status.resize(n);
+    }
     AxonRecord record(std::size_t k) const {
       return {tip[k], heading[k], length[k], step_length[k], id[k], steps[k], target[k], status[k]};
     }
@@ -239,23 +261,24 @@ class DecomposedEngine final : public Engine {
   }
 
   // After a step: finished axons are kept as records, migrants sent, the rest compacted
-  // in slot order.
+  // in place, in slot order.
   void migrate() {
     std::vector<Bytes> out(neighbours_.size());
-    Growing kept;
+    std::size_t w = 0;
     for (std::size_t k = 0; k < grow_.size(); ++k) {
-      const AxonRecord r = grow_.record(k);
-      if (r.status != AxonStatus::kGrowing) {
-        done_.push_back(r);
+      if (grow_.status[k] != AxonStatus::kGrowing) {
+        done_.push_back(grow_.record(k));
         continue;
       }
-      const int owner = d_.owner(r.tip);
-      if (owner == rank_)
-        kept.push(r);
-      else
-        send_to(owner, r, out);
+      const int owner = d_.owner(grow_.tip[k]);
+      if (owner != rank_) {
+        send_to(owner, grow_.record(k), out);
+        continue;
+      }
+      if (w != k) grow_.move(w, k);
+      ++w;
     }
-    grow_ = std::move(kept);
+    grow_.resize(w);
     receive(comm_.exchange(out));
   }
 
@@ -272,15 +295,23 @@ class DecomposedEngine final : public Engine {
       for (const AxonRecord& r : records<AxonRecord>(from)) grow_.push(r);
   }
 
-  template <class T>
-  std::vector<T> gather(const std::vector<T>& mine) {
+  // Every rank's records on rank 0 (empty elsewhere): `fill` appends this rank's.
+  template <class T, class Fill>
+  std::vector<T> gather(std::size_t count, Fill&& fill) {
     const Traffic before = comm_.traffic();
     Bytes bytes;
-    append(bytes, mine);
+    bytes.reserve(count * sizeof(T));
+    fill(bytes);
+    const std::vector<Bytes> parts = comm_.gather(bytes);
+    bytes = Bytes();
     std::vector<T> all;
-    for (const Bytes& from : comm_.gather(bytes)) {
-      const std::vector<T> part = records<T>(from);
-      all.insert(all.end(), part.begin(), part.end());
+    std::size_t total = 0;
+    for (const Bytes& from : parts) total += from.size() / sizeof(T);
+    all.resize(total);
+    std::size_t at = 0;
+    for (const Bytes& from : parts) {
+      if (!from.empty()) std::memcpy(static_cast<void*>(all.data() + at), from.data(), from.size());
+      at += from.size() / sizeof(T);
     }
     const Traffic spent = comm_.traffic() - before;
     report_.gathers.messages += spent.messages;
@@ -289,9 +320,13 @@ class DecomposedEngine final : public Engine {
   }
 
   std::vector<AxonRecord> gather_records() {
-    std::vector<AxonRecord> mine = done_;
-    for (std::size_t k = 0; k < grow_.size(); ++k) mine.push_back(grow_.record(k));
-    return gather(mine);
+    return gather<AxonRecord>(grow_.size() + done_.size(), [&](Bytes& b) {
+      append(b, done_);
+      for (std::size_t k = 0; k < grow_.size(); ++k) {
+        const AxonRecord r = grow_.record(k);
+        append(b, &r, 1);
+      }
+    });
   }
 
   const Scene& scene_;

@@ -18,6 +18,8 @@ Launch detect_launch() {
   l.size = env_int({"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}, 1);
   l.rank = env_int({"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"}, 0);
   l.local_size = env_int({"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"}, 1);
+  for (const char* n : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (const char* v = std::getenv(n); v && *v) l.launched = true;
   if (l.size < 1) l.size = 1;
   if (l.local_size < 1) l.local_size = 1;
   return l;

@@ -155,23 +155,6 @@ int work(const sweep::Spec& spec, const fs::path& dir, const sweep::Options& opt
 
 }  // namespace
 
-void init(int* argc, char*** argv) {
-  int provided = 0;
-  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
-  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
-}
-
-void finalize(bool a_rank_died, int exit_code) {
-  if (a_rank_died) {
-    // Open MPI 4.1 (no ULFM) waits in MPI_Finalize for a rank that died; the outputs are
-    // written, so the job ends here, with the sweep's exit code.
-    std::fflush(stdout);
-    std::fflush(stderr);
-    std::_Exit(exit_code);
-  }
-  MPI_Finalize();
-}
-
 SweepOverRanks run_sweep_over_ranks(const std::string& spec_path, const std::string& out_dir,
                                     const sweep::Options& options, int* exit_code) {
   int rank = 0, size = 1;

@@ -2,6 +2,7 @@
 #include "axonguide/distributed/placement.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <tbb/parallel_for.h>
 
@@ -18,18 +19,18 @@ constexpr std::uint32_t kNone = 0xffffffffu;
 
 // What every rank knows of one soma of the current id block.
 struct Soma {
-  std::uint32_t clear[2] = {kNone, kNone};  // attempts found clear of the earlier blocks, ascending
-  std::uint32_t known = 0;                  // how many of them
-  std::uint32_t next = 0;                   // the first attempt not yet tested
-  bool exhausted = false;                   // next reached max_attempts
+  std::vector<std::uint32_t> clear;  // every attempt below `next` that clears the earlier blocks, ascending
+  std::vector<Vec3> at_clear;        // their positions
+  std::uint32_t next = 0;            // the first attempt not yet tested
+  std::uint32_t asks = 0;            // searches after the first: each asks for twice the clear attempts
+  bool exhausted = false;            // next reached max_attempts
 };
 
-// One search's state after a round, from the rank that ran it.
-struct Update {
-  std::uint32_t k;      // index in the id block
-  std::uint32_t next;   // the first attempt not yet tested
-  std::uint32_t clear;  // the clear attempt found, or kNone
-  std::int32_t at;      // the rank holding attempt `next` when the search goes on; -1 when it ended
+// A clear attempt found in a round, by the rank whose block holds its position.
+struct Found {
+  Vec3 pos;
+  std::uint32_t k;        // index in the id block
+  std::uint32_t attempt;
 };
 
 class Placer {
@@ -45,8 +46,8 @@ class Placer {
         min_dist2_(4.0 * scene.neurons.soma_radius * scene.neurons.soma_radius),
         earlier_(0, 2.0 * scene.neurons.soma_radius, n_ / static_cast<std::size_t>(comm.size()) + 1024),
         block_index_(id_block, 2.0 * scene.neurons.soma_radius),
-        x0_(id_block),
         final_(id_block),
+        taken_(id_block),
         somas_(id_block) {}
 
   DecomposedPlacement run() {
@@ -56,11 +57,10 @@ class Placer {
     for (std::size_t a = 0; a < n_; a += id_block_) {
       base_ = a;
       m_ = std::min(n_, a + id_block_) - a;
-      tbb::parallel_for(std::size_t{0}, m_, [&](std::size_t k) { x0_[k] = soma_draw(scene_, a + k, 0); });
       if (reject) {
         place_block();
       } else {
-        std::copy(x0_.begin(), x0_.begin() + static_cast<std::ptrdiff_t>(m_), final_.begin());
+        tbb::parallel_for(std::size_t{0}, m_, [&](std::size_t k) { final_[k] = soma_draw(scene_, a + k, 0); });
       }
       keep_block();
     }
@@ -70,106 +70,111 @@ class Placer {
   }
 
  private:
-  Vec3 position(std::size_t k, std::uint32_t attempt) const {
-    return attempt == 0 ? x0_[k] : soma_draw(scene_, base_ + k, attempt);
-  }
-
   void place_block() {
-    std::fill(somas_.begin(), somas_.begin() + static_cast<std::ptrdiff_t>(m_), Soma{});
-    // 1. Every soma's first attempt clear of the earlier blocks.
+    for (std::size_t k = 0; k < m_; ++k) somas_[k] = Soma{};
+    settled_ = 0;
     std::vector<std::uint32_t> ks(m_);
     for (std::size_t k = 0; k < m_; ++k) ks[k] = static_cast<std::uint32_t>(k);
-    search(ks, false);
-    // 2. Those whose first clear attempt meets a lower id's: their second.
-    block_index_.clear(0);
-    ks.clear();
-    for (std::size_t k = 0; k < m_; ++k) {
-      if (somas_[k].known == 0) continue;
-      const Vec3 x = position(k, somas_[k].clear[0]);
-      if (block_index_.overlaps(final_, x, min_dist2_) && !somas_[k].exhausted) ks.push_back(static_cast<std::uint32_t>(k));
-      final_[k] = x;
-      block_index_.insert(static_cast<std::uint32_t>(k), x);
-    }
-    out_.second_searches += ks.size();
-    search(ks, false);
-    // 3. The scan in id order, against the block's lower ids.
-    block_index_.clear(0);
-    for (std::size_t k = 0; k < m_; ++k) {
-      Soma& s = somas_[k];
-      std::uint32_t taken = kNone;
-      for (std::uint32_t j = 0; j < s.known && taken == kNone; ++j) {
-        const Vec3 x = position(k, s.clear[j]);
-        if (!block_index_.overlaps(final_, x, min_dist2_)) taken = s.clear[j], final_[k] = x;
-      }
-      if (taken == kNone) {
-        if (!s.exhausted) {
-          ++out_.scan_searches;
-          const std::uint32_t from = s.next;
-          search({static_cast<std::uint32_t>(k)}, true);
-          if (s.known > 0 && s.clear[s.known - 1] != kNone && s.clear[s.known - 1] >= from)
-            taken = s.clear[s.known - 1], final_[k] = position(k, taken);
-        }
-        if (taken == kNone) placement_failed(scene_, base_ + k);
-      }
-      out_.redraws += taken;
-      block_index_.insert(static_cast<std::uint32_t>(k), final_[k]);
+    search(ks);
+    while (!scan(ks)) {
+      out_.extra_searches += ks.size();
+      search(ks);
     }
   }
 
-  // Rounds until each listed soma has found one more clear attempt or run out of them.
-  // With `with_block`, an attempt must also clear the block's somas in block_index_ (the
-  // scan's lower ids).
-  void search(const std::vector<std::uint32_t>& ks, bool with_block) {
-    std::vector<std::uint32_t> active;
-    std::vector<std::int32_t> at(m_, -1);
+  // The block's lower ids in id order (from the first soma the last scan left pending): soma
+  // k takes its first clear attempt that no lower id's position overlaps. A soma whose known clear attempts are all overlapped is
+  // pending, and so is every position after it: they stand only if the pending ones do
+  // not move into them. Returns true when no soma is pending (every position is final and
+  // is random sequential addition's); otherwise `requests` lists the pending somas that can
+  // search for one more clear attempt, and the first of them always can (or it fails).
+  bool scan(std::vector<std::uint32_t>& requests) {
+    ++out_.scan_passes;
+    requests.clear();
+    block_index_.clear(0);
+    for (std::size_t k = 0; k < settled_; ++k) block_index_.insert(static_cast<std::uint32_t>(k), final_[k]);
+    bool pending = false;
+    for (std::size_t k = settled_; k < m_; ++k) {
+      const Soma& s = somas_[k];
+      std::uint32_t taken = kNone;
+      for (std::size_t j = 0; j < s.clear.size() && taken == kNone; ++j)
+        if (!block_index_.overlaps(final_, s.at_clear[j], min_dist2_)) taken = s.clear[j], final_[k] = s.at_clear[j];
+      if (taken != kNone) {
+        taken_[k] = taken;
+        block_index_.insert(static_cast<std::uint32_t>(k), final_[k]);
+        if (!pending) settled_ = k + 1;  // final: every lower id is
+        continue;
+      }
+      if (!pending && s.exhausted) placement_failed(scene_, base_ + k);
+      pending = true;
+      if (!s.exhausted) requests.push_back(static_cast<std::uint32_t>(k));
+    }
+    if (pending) return false;
+    for (std::size_t k = 0; k < m_; ++k) out_.redraws += taken_[k];
+    return true;
+  }
+
+  // Rounds until each listed soma has found `want` more attempts clear of the earlier
+  // blocks, or run out of attempts. A round tests a window of each soma's next attempts:
+  // every rank draws the window (a cheap, replicated draw) and tests the positions in its
+  // own block; the all-gather of what they found tells every rank every clear attempt in
+  // the window. A window that finds too few doubles for the next round, so that a soma
+  // near jamming takes rounds in the logarithm of its attempts.
+  void search(const std::vector<std::uint32_t>& ks) {
+    std::vector<std::uint32_t> active, want(m_, 0), window(m_, 1);
     for (std::uint32_t k : ks) {
       Soma& s = somas_[k];
       if (s.next >= max_attempts_) {
         s.exhausted = true;
         continue;
       }
-      // The capacity of clear[]: a third search for one soma (a scan search after the
-      // second) overwrites the second clear attempt, which was already tried.
-      if (s.known == 2) s.known = 1, s.clear[1] = kNone;
-      at[k] = d_.owner(position(k, s.next));
+      want[k] = 1u << std::min<std::uint32_t>(s.asks, 10);
+      if (s.asks > 0) window[k] = want[k];
+      ++s.asks;
       active.push_back(k);
     }
+    std::vector<std::vector<Found>> found(active.size());
     while (!active.empty()) {
-      std::vector<std::uint32_t> mine;
-      for (std::uint32_t k : active)
-        if (at[k] == rank_) mine.push_back(k);
-      std::vector<Update> updates(mine.size());
-      tbb::parallel_for(std::size_t{0}, mine.size(), [&](std::size_t j) { updates[j] = advance(mine[j], with_block); });
+      found.assign(active.size(), {});
+      tbb::parallel_for(std::size_t{0}, active.size(), [&](std::size_t j) {
+        const std::uint32_t k = active[j];
+        const std::uint32_t end = std::min(max_attempts_, somas_[k].next + window[k]);
+        for (std::uint32_t t = somas_[k].next; t < end; ++t) {
+          const Vec3 x = soma_draw(scene_, base_ + k, t);
+          if (d_.owner(x) == rank_ && !earlier_.overlaps(near_pos_, x, min_dist2_)) found[j].push_back({x, k, t});
+        }
+      });
       Bytes bytes;
-      append(bytes, updates);
+      for (const auto& f : found) append(bytes, f);
       const std::vector<Bytes> all = comm_.allgather(bytes);
       ++out_.rounds;
-      for (const Bytes& from : all)
-        for (const Update& u : records<Update>(from)) {
-          Soma& s = somas_[u.k];
-          s.next = u.next;
-          if (u.clear != kNone) s.clear[s.known++] = u.clear;
-          if (u.at < 0 && u.clear == kNone) s.exhausted = true;
-          at[u.k] = u.at;
-        }
+      // Each window's clear attempts, ascending, from whichever ranks found them.
+      std::vector<Found> round;
+      for (const Bytes& from : all) {
+        const std::vector<Found> part = records<Found>(from);
+        round.insert(round.end(), part.begin(), part.end());
+      }
+      std::sort(round.begin(), round.end(),
+                [](const Found& a, const Found& b) { return a.k != b.k ? a.k < b.k : a.attempt < b.attempt; });
+      for (const Found& f : round) {
+        Soma& s = somas_[f.k];
+        s.clear.push_back(f.attempt);
+        s.at_clear.push_back(f.pos);
+        want[f.k] = want[f.k] > 0 ? want[f.k] - 1 : 0;
+      }
       std::vector<std::uint32_t> still;
-      for (std::uint32_t k : active)
-        if (at[k] >= 0) still.push_back(k);
+      for (std::uint32_t k : active) {
+        Soma& s = somas_[k];
+        s.next = std::min(max_attempts_, s.next + window[k]);
+        if (s.next >= max_attempts_) {
+          s.exhausted = true;
+          continue;
+        }
+        if (want[k] == 0) continue;
+        window[k] *= 2;
+        still.push_back(k);
+      }
       active.swap(still);
-    }
-  }
-
-  // This rank's part of soma k's search: test its attempts while they fall in this block.
-  Update advance(std::uint32_t k, bool with_block) const {
-    std::uint32_t t = somas_[k].next;
-    Vec3 x = position(k, t);
-    for (;;) {
-      if (!earlier_.overlaps(near_pos_, x, min_dist2_) && !(with_block && block_index_.overlaps(final_, x, min_dist2_)))
-        return {k, t + 1, t, -1};
-      if (++t >= max_attempts_) return {k, t, kNone, -1};
-      x = soma_draw(scene_, base_ + k, t);
-      const int owner = d_.owner(x);
-      if (owner != rank_) return {k, t, kNone, owner};
     }
   }
 
@@ -196,15 +201,26 @@ class Placer {
   OverlapIndex earlier_;       // slots into near_pos_
   std::vector<Vec3> near_pos_;
   OverlapIndex block_index_;   // slots k of the current id block, into final_
-  std::vector<Vec3> x0_, final_;
+  std::vector<Vec3> final_;
+  std::vector<std::uint32_t> taken_;  // the attempt each soma of the block takes
+  std::size_t settled_ = 0;           // the block's leading somas whose positions are final
   std::vector<Soma> somas_;
   DecomposedPlacement out_;
 };
 
 }  // namespace
 
+std::size_t placement_id_block(const Scene& scene) {
+  // About one overlap in ten at the end of a block (soma volume fraction phi: a block of B
+  // somas overlaps a new one with probability about 8 phi B / N) keeps the scan's passes few;
+  // blocks of at most 16384 keep its replicated work small.
+  const double phi = std::max(packing_fraction(scene.neurons), 1e-9);
+  const double b = static_cast<double>(scene.neurons.count) * 0.1 / (8.0 * phi);
+  return static_cast<std::size_t>(std::clamp(b, 256.0, 16384.0));
+}
+
 DecomposedPlacement place_decomposed(const Scene& scene, const Decomposition& d, Comm& comm, std::size_t id_block) {
-  return Placer(scene, d, comm, std::max<std::size_t>(1, id_block)).run();
+  return Placer(scene, d, comm, std::max<std::size_t>(1, id_block ? id_block : placement_id_block(scene))).run();
 }
 
 }  // namespace axg::distributed

@@ -8,6 +8,7 @@ struct Launch {
   int rank = 0;
   int size = 1;        // ranks in the job
   int local_size = 1;  // ranks on this node
+  bool launched = false;  // started by a launcher (mpirun -np 1 included)
   bool under_mpirun() const { return size > 1; }
 };
 

@@ -3,13 +3,37 @@
 // as MPI collectives, the neighbour exchange as MPI_Neighbor_alltoall(v) over a distributed
 // graph of the adjacent blocks, and the gather to rank 0 as point-to-point messages of at
 // most 1 GiB (so a result over 2^31 bytes still arrives). Every MPI error becomes a
-// RunError naming the call. Built only with MPI (AXG_HAVE_MPI).
+// RunError naming the call. Defined only in builds with MPI (AXG_HAVE_MPI).
 #include <memory>
 
 #include "axonguide/distributed/comm.hpp"
 
 namespace axg::distributed {
 
+// A communicator over MPI_COMM_WORLD (a duplicate, with errors returned, not fatal).
 std::unique_ptr<Comm> make_mpi_comm();
+
+// MPI_Init and MPI_Finalize around a command, on every rank. When a rank died, the
+// destructor does not call MPI_Finalize (Open MPI 4.1 would wait for the dead rank
+// forever): it ends the process with exit_code.
+#ifdef AXG_HAVE_MPI
+struct MpiSession {
+  MpiSession();
+  ~MpiSession();
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  bool rank_died = false;
+  int exit_code = 0;
+};
+#else
+struct MpiSession {  // a build without MPI: nothing to start or end
+  bool rank_died = false;
+  int exit_code = 0;
+};
+#endif
+
+// Ends every rank of the job (MPI_Abort) with `code`: for an error one rank met alone, in
+// the middle of collective work the others would wait in forever.
+[[noreturn]] void abort_job(int code);
 
 }  // namespace axg::distributed

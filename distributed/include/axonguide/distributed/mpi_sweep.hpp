@@ -28,10 +28,4 @@ struct SweepOverRanks {
 SweepOverRanks run_sweep_over_ranks(const std::string& spec_path, const std::string& out_dir,
                                     const sweep::Options& options, int* exit_code);
 
-// MPI_Init/MPI_Finalize around a command. When a rank died, finalize() does not call
-// MPI_Finalize (Open MPI 4.1 would wait for the dead rank forever): it ends the process
-// with exit_code.
-void init(int* argc, char*** argv);
-void finalize(bool a_rank_died, int exit_code);
-
 }  // namespace axg::distributed

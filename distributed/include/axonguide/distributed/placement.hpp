@@ -3,22 +3,22 @@
 // place_neurons (random sequential addition in id order, methods §2.1) for any rank count.
 //
 // Ids are taken in blocks, in order, as in the one-process blocked pass. For a block:
-//  1. Search (rounds): each soma's attempts are drawn in order, and the rank whose block
-//     holds an attempt's position tests it against the earlier blocks' somas, which that
-//     rank holds within the halo of its block; it goes on drawing while the next attempt
-//     stays in its block, and hands the search to the position's owner otherwise. Each
-//     round ends with an all-gather of the searches' states (24 bytes each). A rejection
-//     there is one the sequential pass makes too, since earlier blocks are final.
-//  2. Every rank then knows every soma's first clear attempt. Where two of them, in the
-//     same block, overlap, the higher id may be rejected by the lower: those somas search
-//     on for their second clear attempt (more rounds).
-//  3. Scan (every rank, the same, no message): in id order, a soma takes its first clear
-//     attempt that no lower id of the block overlaps. A soma that runs out of known clear
-//     attempts searches on from there, testing the earlier blocks (its owner) and the
-//     block's lower ids (every rank knows them) together: rounds for that soma alone.
+//  1. Search (rounds): a window of each soma's next attempts is drawn by every rank (a
+//     cheap draw), and the rank whose block holds an attempt's position tests it against
+//     the earlier blocks' somas, which it holds within the halo of its block. An
+//     all-gather of the clear attempts found (40 bytes each) ends the round; a window that
+//     found none doubles for the next. A rejection there is one the sequential pass makes
+//     too, since earlier blocks are final.
+//  2. Scan (every rank, the same, no message): in id order, a soma takes its first known
+//     clear attempt that no lower id of the block overlaps. A soma whose known ones are all
+//     overlapped is pending, and so is everything after it; the pending somas search on,
+//     together, for more clear attempts each (twice as many each time a soma is pending
+//     again), and the scan runs again. When a scan
+//     leaves none pending, every soma holds random sequential addition's position.
 // Each rank keeps the somas within the halo of its block, and rank 0 every soma (it writes
-// the outputs). Every rank draws each soma's first attempt, to learn who owns it: a cheap,
-// replicated O(N) scan; the overlap tests, the costly part, are split by space.
+// the outputs). Every rank draws the windows and runs the scans, cheap replicated O(N) work
+// (about 2 draws per soma at the report's density); the overlap tests against everything
+// placed, the costly part, are split by space.
 #include <cstdint>
 #include <vector>
 
@@ -40,14 +40,17 @@ struct DecomposedPlacement {
   std::vector<core::Vec3> all;   // rank 0: every soma by id; empty on the other ranks
   std::uint64_t redraws = 0;     // attempts beyond the first, summed over all neurons
   std::uint64_t rounds = 0;      // all-gathers the searches took
-  std::uint64_t second_searches = 0, scan_searches = 0;  // somas that searched in steps 2 and 3
+  std::uint64_t scan_passes = 0;     // scans of id blocks
+  std::uint64_t extra_searches = 0;  // searches for pending somas
 };
 
-inline constexpr std::size_t kPlacementIdBlock = 16384;
+// The id block for a scene: about one overlap in ten at a block's end, within [256, 16384].
+// It changes the rounds and the replicated work, never the result.
+std::size_t placement_id_block(const Scene& scene);
 
 // Collective over comm. Throws what place_neurons throws, on every rank alike (the checks
 // and the failing neuron are decided from data every rank holds).
 DecomposedPlacement place_decomposed(const Scene& scene, const Decomposition& d, Comm& comm,
-                                     std::size_t id_block = kPlacementIdBlock);
+                                     std::size_t id_block = 0);  // 0: placement_id_block
 
 }  // namespace axg::distributed

@@ -89,8 +89,10 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
   const Scene& s = r.scene;
   const StepStats& last = r.stats.back();
   const double n = static_cast<double>(r.neurons.size());
-  fmt::print("axonguide {} ({}) — {} backend, {} thread{}\n", kVersion, kCommit, args.backend, threads,
-             threads == 1 ? "" : "s");
+  fmt::print("axonguide {} ({}) — {} backend, {} thread{}{}\n", kVersion, kCommit, args.backend, threads,
+             threads == 1 ? "" : "s",
+             r.decomposition.is_null() ? std::string()
+                                       : fmt::format(" on each of {} ranks", r.decomposition["ranks"].get<int>()));
   fmt::print("scene     {} (seed {})\n          {}\n", origin, s.seed, scene_line(s));
   fmt::print("units     {}{}\n", s.units.describe(), s.units.declared() ? "" : " (none declared: the report's units)");
   fmt::print("axons     step {} {}{}, {}{}\n", s.axons.step_length, s.units.length,
@@ -127,11 +129,20 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
     graph += fmt::format(", BFS from {} source{} reached {} (max level {})", s.analysis.bfs_sources.size(),
                          s.analysis.bfs_sources.size() == 1 ? "" : "s", r.graph.bfs->reached, r.graph.bfs->max_level);
   fmt::print("graph     {}\n", graph);
+  const json& d = r.decomposition;
+  if (!d.is_null())
+    fmt::print("ranks     {} ({} x {} x {} blocks, halo {:.4g} LU; {} to {} somas a rank): placement {} rounds; per step "
+               "{:.1f} axons migrate in {:.1f} messages ({:.0f} bytes) and {:.0f} collectives a rank\n",
+               d["ranks"].get<int>(), d["blocks"][0].get<int>(), d["blocks"][1].get<int>(), d["blocks"][2].get<int>(),
+               d["halo_lu"].get<double>(), d["somas_per_rank"]["min"].get<std::uint64_t>(),
+               d["somas_per_rank"]["max"].get<std::uint64_t>(), d["placement"]["rounds"].get<std::uint64_t>(),
+               d["per_step"]["migrated_axons"].get<double>(), d["per_step"]["messages"].get<double>(),
+               d["per_step"]["message_bytes"].get<double>(), d["per_step"]["collectives_per_rank"].get<double>());
   double steps_time = 0, grow_time = 0;
   for (const auto& row : r.times.rows())
     if (row.step > 0) {
       steps_time += row.seconds;
-      if (row.phase == "grow" || row.phase == "compact") grow_time += row.seconds;
+      if (row.phase == "grow" || row.phase == "compact" || row.phase == "migrate") grow_time += row.seconds;
     }
   const double axon_steps = [&] {
     double a = 0;
@@ -172,7 +183,8 @@ class StopSignals {
   }
   static int received() { return g_signal; }
   static int exit_code() { return 128 + g_signal; }  // 130 for SIGINT, 143 for SIGTERM
-  static const char* name() { return g_signal == SIGINT ? "SIGINT" : g_signal == SIGTERM ? "SIGTERM" : "a signal"; }
+  static const char* name() { return name_of(g_signal); }
+  static const char* name_of(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal"; }
 
  private:
   struct sigaction old_int_ {}, old_term_ {};
@@ -428,21 +440,23 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
       return r;
     });
   } catch (const Interrupted& stop) {
+    // Every rank stopped after this step, for a signal that reached one of them or more.
+    const int sig = ranks ? static_cast<int>(ranks->most(static_cast<std::uint64_t>(StopSignals::received())))
+                          : StopSignals::received();
+    const char* name = StopSignals::name_of(sig);
     if (root) {
       json m = running;
       m["status"] = "interrupted";
-      m["interrupted"] = {{"signal", StopSignals::name()}, {"after_step", stop.step}};
+      m["interrupted"] = {{"signal", name}, {"after_step", stop.step}};
       m["checkpoint"] = {{"file", kCheckpointName}, {"step", stop.step}, {"sha256", sha256_file(dir / kCheckpointName)}};
       write_manifest(dir, m);
       std::fprintf(stderr,
                    "axonguide: interrupted by %s after step %u of %u; the checkpoint is in %s/%s. Continue with: "
                    "%saxonguide run --resume %s\n",
-                   StopSignals::name(), stop.step, scene.steps, dir.c_str(), kCheckpointName,
-                   ranks ? "mpirun ... " : "", dir.c_str());
+                   name, stop.step, scene.steps, dir.c_str(), kCheckpointName, ranks ? "mpirun ... " : "",
+                   dir.c_str());
     }
-    // Every rank stopped at this step; they end with rank 0's code (its signal's).
-    const int mine = root ? StopSignals::exit_code() : 0;
-    return ranks ? static_cast<int>(ranks->most(static_cast<std::uint64_t>(mine))) : mine;
+    return 128 + sig;  // 130 for SIGINT, 143 for SIGTERM
   } catch (...) {
     std::exception_ptr error = std::current_exception();
     bool every_rank = !ranks;

@@ -66,13 +66,3 @@ set -e
 [ $rc -eq 2 ] || fail "a bad sweep file: mpirun exited $rc, expected 2 ($(cat bad.log))"
 [ "$(grep -c 'error' bad.log)" = 1 ] || fail "expected one error line from rank 0: $(cat bad.log)"
 echo "a bad sweep file: exit 2, one message, no hang"
-
-# One network over ranks is not built: `run` under mpirun -np 2 refuses on rank 0, exit 3.
-set +e
-timeout 60 "${mpi[@]}" -np 2 "$exe" run --out run2 > run2.log 2>&1
-rc=$?
-set -e
-[ $rc -eq 3 ] || fail "run under mpirun -np 2 exited $rc, expected 3"
-grep -q 'a run decomposed over ranks is not built yet' run2.log || fail "no message from rank 0: $(cat run2.log)"
-[ ! -e run2/manifest.json ] || fail "run under mpirun wrote a run folder"
-echo "run under mpirun -np 2: refused with exit 3 and one message"

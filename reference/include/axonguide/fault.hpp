@@ -4,7 +4,8 @@
 // "manifest"), the process sends itself SIGKILL there, as `kill -9` would. The resume
 // tests use it to kill a run at exact points of every stage; unset, it costs a null
 // test. AXG_FAULT_SIGNAL=INT, TERM or STOP sends that
-// signal instead (the interruption and lock tests).
+// signal instead (the interruption and lock tests). AXG_FAULT_RANK=R limits it to rank R
+// of an MPI job (the decomposed run's tests).
 #include <string_view>
 
 namespace axg {

@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# One network decomposed over MPI ranks (docs/scaling.md), on localhost:
+#  - mpirun -np 1, 2 and 4 write every file of the one-process run byte for byte (all but
+#    timings.csv and manifest.json, whose file hashes and summary must match too), for
+#    direct guidance (with paths, SWC and SONATA), the analytic field with growth-rate
+#    modulation, and the imposed field in physical units; the manifest records the blocks;
+#  - a signal to one rank stops every rank at the same step with a checkpoint (exit 143),
+#    and a kill -9 of one rank ends the job; either run resumes on another rank count to the
+#    one-process bytes;
+#  - what cannot proceed exits 2 or 3 with one message, from rank 0, and no rank hangs: too
+#    many ranks for the scene's halo, a particle field, --backend cuda, placement too dense
+#    (the folder is left as it was).
+# Usage: check_mpi_run.sh AXONGUIDE MPIEXEC SOURCE_DIR
+set -euo pipefail
+exe=$1
+mpi=("$2" --allow-run-as-root --oversubscribe)
+src=$3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+# same DIR_A DIR_B: every file but timings.csv and manifest.json byte-identical, the same
+# file list, and the manifests' file hashes (timings aside) and summaries equal.
+same() {
+  diff <(cd "$1" && find . -type f ! -name timings.csv ! -name manifest.json | sort) \
+       <(cd "$2" && find . -type f ! -name timings.csv ! -name manifest.json | sort) > /dev/null ||
+    fail "$2 holds other files than $1"
+  (cd "$1" && find . -type f ! -name timings.csv ! -name manifest.json) | while read -r f; do
+    cmp -s "$1/$f" "$2/$f" || fail "$2/$f differs from $1/$f"
+  done
+  /usr/bin/python3 - "$1" "$2" <<'PY' || fail "$2/manifest.json: hashes or summary differ from $1's"
+import json, sys
+a, b = (json.load(open(d + "/manifest.json")) for d in sys.argv[1:3])
+strip = lambda m: {k: v for k, v in m["files"].items() if k != "timings.csv"}
+assert strip(a) == strip(b) and a["summary"] == b["summary"] and a["scene"] == b["scene"], "differ"
+assert a["status"] == b["status"] == "complete"
+PY
+}
+run1() { "$exe" run "$@" -q; }
+runk() { local k=$1; shift; timeout 300 "${mpi[@]}" -np "$k" "$exe" run "$@" -q; }
+
+/usr/bin/python3 - "$src" <<'PY'
+import json, sys
+src = sys.argv[1]
+direct = json.load(open(src + "/scenes/paper-direct-1000.json"))
+direct["output"] = dict(direct.get("output", {}), paths=True, swc=True, sonata=True)
+json.dump(direct, open("direct.json", "w"))
+analytic = json.load(open(src + "/data/golden/analytic-snr/scene.json"))
+analytic.setdefault("axons", {})["growth_modulation"] = 0.5
+analytic.setdefault("neurons", {})["count"] = 600
+json.dump(analytic, open("analytic.json", "w"))
+PY
+cp "$src/data/golden/imposed-explant-units/scene.json" imposed.json
+for scene in direct analytic imposed; do
+  run1 $scene.json --out one-$scene
+  for k in 1 2 4; do
+    runk $k $scene.json --out np$k-$scene || fail "mpirun -np $k run $scene exited $?"
+    same one-$scene np$k-$scene
+    /usr/bin/python3 -c "import json,sys; d=json.load(open('np$k-$scene/manifest.json'))['decomposition']; \
+assert d['ranks']==$k and d['blocks'][0]*d['blocks'][1]*d['blocks'][2]==$k, d" || fail "np$k-$scene: no decomposition facts"
+    "$exe" verify np$k-$scene > /dev/null || fail "np$k-$scene does not verify"
+  done
+  echo "$scene: mpirun -np 1, 2, 4 wrote the one-process files byte for byte"
+done
+
+# Interrupted on one rank: all stop after the same step, with a checkpoint; resumed on 4.
+echo '{"neurons": {"count": 3000, "region": {"radius": 9}}, "guidance": {"model": "direct"}, "steps": 60,
+       "output": {"checkpoint_every": 5, "paths": true}}' > long.json
+run1 long.json --out one-long
+set +e
+AXG_FAULT_KILL_AT="step 17" AXG_FAULT_SIGNAL=TERM AXG_FAULT_RANK=1 runk 2 long.json --out stopped 2> stopped.log
+rc=$?
+set -e
+[ $rc -eq 143 ] || fail "SIGTERM to rank 1: mpirun exited $rc, expected 143 ($(cat stopped.log))"
+grep -q 'interrupted by SIGTERM after step 17' stopped.log || fail "no message from rank 0: $(cat stopped.log)"
+[ "$(grep -c 'interrupted by' stopped.log)" = 1 ] || fail "more than one rank spoke: $(cat stopped.log)"
+grep -q '"status": "interrupted"' stopped/manifest.json || fail "stopped/manifest.json does not say interrupted"
+runk 4 --resume stopped || fail "the resume on 4 ranks exited $?"
+same one-long stopped
+echo "SIGTERM to one of 2 ranks: every rank stopped after step 17; resumed on 4 ranks to the same bytes"
+
+# kill -9 of one rank: mpirun ends the job; the checkpoint resumes on one process.
+set +e
+AXG_FAULT_KILL_AT="step 23" AXG_FAULT_RANK=2 runk 3 long.json --out killed > killed.log 2>&1
+rc=$?
+set -e
+[ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "a rank killed: mpirun exited $rc"
+"$exe" run --resume killed -q || fail "the resume in one process exited $?"
+same one-long killed
+echo "kill -9 of one of 3 ranks: the job ended (exit $rc); resumed in one process to the same bytes"
+
+# What cannot proceed: exit 2 or 3, one message from rank 0, no hang, no folder.
+refuse() {  # refuse CODE PATTERN NP ARGS...: exit CODE, one error line matching PATTERN
+  local code=$1 pattern=$2 k=$3; shift 3
+  set +e
+  timeout 120 "${mpi[@]}" -np "$k" "$exe" run "$@" -q > refuse.log 2>&1
+  local rc=$?
+  set -e
+  [ $rc -eq "$code" ] || fail "run $* on $k ranks exited $rc, expected $code: $(cat refuse.log)"
+  [ "$(grep -c 'axonguide: ' refuse.log)" = 1 ] || fail "expected one message from rank 0: $(cat refuse.log)"
+  grep -q "$pattern" refuse.log || fail "message without '$pattern': $(cat refuse.log)"
+}
+echo '{"neurons": {"count": 20, "region": {"radius": 1.2}}, "guidance": {"model": "direct"}}' > small.json
+refuse 2 'narrower than the halo' 5 small.json --out small
+[ ! -e small ] || fail "a refused run made its folder"
+refuse 3 'particles field' 2 --out particles
+refuse 3 'one block per GPU is designed' 2 direct.json --backend emulated --out emulated
+echo '{"neurons": {"count": 2300, "region": {"radius": 5}, "soma_radius": 0.3, "max_attempts": 40},
+       "guidance": {"model": "direct"}}' > dense.json
+refuse 3 'still overlaps an earlier soma' 3 dense.json --out dense
+[ ! -e dense ] || fail "a run whose placement failed left its folder"
+run1 direct.json --out taken && refuse 2 'holds another run' 2 direct.json --out taken
+same one-direct taken
+echo "refusals: exit 2 or 3, one message from rank 0, no hang, no folder"

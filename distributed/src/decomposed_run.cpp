@@ -1,6 +1,7 @@
 #include "axonguide/distributed/decomposed_run.hpp"
 
 #include "axonguide/distributed/placement.hpp"
+#include "axonguide/error.hpp"
 
 namespace axg::distributed {
 
@@ -46,7 +47,10 @@ json DecomposedRun::facts() {
   std::vector<std::uint64_t> sum{r.owned_somas,          r.halo_somas,          r.migrated,
                                  r.placement.collective_bytes, r.steps.messages,  r.steps.message_bytes,
                                  r.steps.collective_bytes,     r.gathers.messages, r.gathers.message_bytes};
-  std::vector<std::uint64_t> most{r.owned_somas, ~r.owned_somas, r.steps.message_bytes, r.steps.collectives};
+  // Peak memory so far: rank 0's (which holds the whole result) and the largest other's.
+  const std::uint64_t peak = peak_rss_bytes();
+  std::vector<std::uint64_t> most{r.owned_somas, ~r.owned_somas, r.steps.message_bytes, r.steps.collectives,
+                                  comm_.root() ? peak : 0, comm_.root() ? 0 : peak};
   comm_.allreduce(sum, Reduce::kSum);
   comm_.allreduce(most, Reduce::kMax);
   const double steps = static_cast<double>(std::max<std::uint64_t>(r.steps_run, 1));
@@ -69,7 +73,8 @@ json DecomposedRun::facts() {
             {"collectives_per_rank", per_step(most[3])},
             {"collective_bytes", per_step(sum[6])},
             {"max_rank_message_bytes", per_step(most[2])}}},
-          {"gathered", {{"messages", sum[7]}, {"bytes", sum[8]}}}};
+          {"gathered", {{"messages", sum[7]}, {"bytes", sum[8]}}},
+          {"peak_memory_bytes", {{"rank0", most[4]}, {"largest_other", most[5]}}}};
 }
 
 }  // namespace axg::distributed

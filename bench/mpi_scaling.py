@@ -1,0 +1,151 @@
+#!/usr/bin/python3
+"""Strong and weak scaling of one network decomposed over MPI ranks (docs/scaling.md §3).
+
+Runs `mpirun -np K axonguide run` on direct-guidance scenes at the report's density
+(100 neurons in a ball of radius 2.5 LU) with the default wandering, 100 steps, and reads
+rank 0's manifest: the phase times and the decomposition's facts (placement rounds, axons
+migrated, messages and bytes per step, peak memory). Every run is checked against the
+one-process run of the same scene (neurons.csv, connections.csv, bfs.csv and stats.csv
+compared byte for byte); a mismatch stops the benchmark.
+
+  strong: N fixed, K = 1, 2, 4 (one thread a rank; the one-process reference engine on
+          1 and 2 threads beside it);
+  weak:   N = N1 x K, K = 1, 2, 4.
+
+On a machine with fewer cores than ranks the ranks share cores (--oversubscribe): the
+times then show the cost of the decomposition, not its speed-up; the bytes and messages
+per step are what a real cluster would carry.
+
+Usage: bench/mpi_scaling.py BUILD/bin/axonguide [--strong N] [--weak N1] [--ranks 1,2,4]
+                            [--repeats R] [--json OUT.json] [--markdown OUT.md]
+"""
+import argparse
+import filecmp
+import json
+import math
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+COMPARED = ["neurons.csv", "connections.csv", "bfs.csv", "stats.csv"]
+
+
+def scene(n):
+    radius = round(2.5 * (n / 100.0) ** (1.0 / 3.0) * 1e4) / 1e4
+    return {"neurons": {"count": n, "region": {"radius": radius}}, "guidance": {"model": "direct"}, "steps": 100,
+            "analysis": {"bfs_sources": [0], "components": True}}
+
+
+def run(cmd, out):
+    shutil.rmtree(out, ignore_errors=True)
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd + ["--out", out, "-q"], capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    if p.returncode != 0:
+        sys.exit(f"{' '.join(cmd)} exited {p.returncode}:\n{p.stderr}")
+    m = json.load(open(os.path.join(out, "manifest.json")))
+    return wall, m
+
+
+def measure(exe, mpiexec, n, ranks, repeats, tmp, one_threads):
+    path = os.path.join(tmp, f"scene-{n}.json")
+    json.dump(scene(n), open(path, "w"))
+    rows = []
+    ref_dir = os.path.join(tmp, f"one-{n}")
+    for threads in one_threads:
+        walls, mans = [], []
+        for _ in range(repeats):
+            w, m = run([exe, "run", path, "--threads", str(threads)], ref_dir)
+            walls.append(w), mans.append(m)
+        rows.append(summarize(n, 0, threads, walls, mans))
+    for k in ranks:
+        walls, mans = [], []
+        out = os.path.join(tmp, f"np{k}-{n}")
+        for _ in range(repeats):
+            w, m = run([mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", str(k), exe, "run", path,
+                        "--threads", "1"], out)
+            walls.append(w), mans.append(m)
+            for f in COMPARED:
+                if not filecmp.cmp(os.path.join(ref_dir, f), os.path.join(out, f), shallow=False):
+                    sys.exit(f"-np {k}, {n} neurons: {f} differs from the one-process run")
+        rows.append(summarize(n, k, 1, walls, mans))
+    return rows
+
+
+def summarize(n, ranks, threads, walls, mans):
+    med = lambda xs: statistics.median(xs)
+    t = lambda key: med([m["timings_seconds"].get(key, 0.0) for m in mans])
+    steps = t("grow") + t("compact") + t("migrate") + t("steer")
+    row = {"neurons": n, "ranks": ranks, "threads": threads, "wall_s": med(walls), "wall_min_s": min(walls),
+           "wall_max_s": max(walls), "placement_s": t("placement"), "setup_s": t("setup"), "steps_s": steps,
+           "readback_s": t("readback"), "graph_s": t("graph"), "output_s": t("output"),
+           "steps_run": mans[0]["summary"]["steps_run"], "peak_rank0_bytes": mans[0]["peak_memory_bytes"]}
+    d = mans[0].get("decomposition")
+    if d:
+        row.update({"blocks": d["blocks"], "placement_rounds": d["placement"]["rounds"],
+                    "placement_collective_bytes": d["placement"]["collective_bytes"],
+                    "migrated_per_step": d["per_step"]["migrated_axons"], "messages_per_step": d["per_step"]["messages"],
+                    "message_bytes_per_step": d["per_step"]["message_bytes"],
+                    "collectives_per_step_rank": d["per_step"]["collectives_per_rank"],
+                    "collective_bytes_per_step": d["per_step"]["collective_bytes"],
+                    "halo_somas": d["halo_somas"], "somas_per_rank_max": d["somas_per_rank"]["max"],
+                    "gathered_bytes": d["gathered"]["bytes"],
+                    "peak_other_bytes": d["peak_memory_bytes"]["largest_other"]})
+    return row
+
+
+def markdown(rows, title):
+    out = [f"**{title}**", "",
+           "| neurons | run | wall s (min–max) | placement s | steps s | readback + graph + output s | "
+           "rounds | migrated / step | messages / step | bytes / step | collectives / step / rank | peak MiB rank 0 / other |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        who = f"1 process, {r['threads']} thread{'s' if r['threads'] > 1 else ''}" if r["ranks"] == 0 else \
+            f"-np {r['ranks']} ({'×'.join(map(str, r['blocks']))})"
+        dec = r["ranks"] > 0
+        out.append(
+            f"| {r['neurons']:.0e} | {who} | {r['wall_s']:.2f} ({r['wall_min_s']:.2f}–{r['wall_max_s']:.2f}) | "
+            f"{r['placement_s']:.2f} | {r['steps_s']:.2f} | {r['readback_s'] + r['graph_s'] + r['output_s']:.2f} | "
+            + (f"{r['placement_rounds']} | {r['migrated_per_step']:.0f} | {r['messages_per_step']:.1f} | "
+               f"{r['message_bytes_per_step']:.0f} + {r['collective_bytes_per_step']:.0f} | "
+               f"{r['collectives_per_step_rank']:.0f} | {r['peak_rank0_bytes'] / 2**20:.0f} / "
+               f"{r['peak_other_bytes'] / 2**20:.0f} |"
+               if dec else f"– | – | – | – | – | {r['peak_rank0_bytes'] / 2**20:.0f} |"))
+    return "\n".join(out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("exe")
+    ap.add_argument("--mpiexec", default=shutil.which("mpiexec") or "mpiexec")
+    ap.add_argument("--strong", type=int, default=1000000)
+    ap.add_argument("--weak", type=int, default=250000)
+    ap.add_argument("--ranks", default="1,2,4")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--json")
+    ap.add_argument("--markdown")
+    a = ap.parse_args()
+    ranks = [int(k) for k in a.ranks.split(",")]
+    tmp = tempfile.mkdtemp(prefix="axg-scaling-")
+    try:
+        strong = measure(a.exe, a.mpiexec, a.strong, ranks, a.repeats, tmp, [1, 2])
+        weak = []
+        for k in ranks:
+            weak += measure(a.exe, a.mpiexec, a.weak * k, [k], a.repeats, tmp, [])
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    text = "\n\n".join([markdown(strong, f"Strong scaling, {a.strong:.0e} neurons"),
+                        markdown(weak, f"Weak scaling, {a.weak:.0e} neurons a rank")])
+    print(text)
+    if a.markdown:
+        open(a.markdown, "w").write(text + "\n")
+    if a.json:
+        json.dump({"strong": strong, "weak": weak, "cores": os.cpu_count()}, open(a.json, "w"), indent=1)
+
+
+if __name__ == "__main__":
+    main()

@@ -10,7 +10,7 @@ compared byte for byte); a mismatch stops the benchmark.
 
   strong: N fixed, K = 1, 2, 4 (one thread a rank; the one-process reference engine on
           1 and 2 threads beside it);
-  weak:   N = N1 x K, K = 1, 2, 4.
+  weak:   N = N1 x K, K = 1, 2, 4 (each beside the one-process engine on 1 thread).
 
 On a machine with fewer cores than ranks the ranks share cores (--oversubscribe): the
 times then show the cost of the decomposition, not its speed-up; the bytes and messages
@@ -135,7 +135,7 @@ def main():
         strong = measure(a.exe, a.mpiexec, a.strong, ranks, a.repeats, tmp, [1, 2])
         weak = []
         for k in ranks:
-            weak += measure(a.exe, a.mpiexec, a.weak * k, [k], a.repeats, tmp, [])
+            weak += measure(a.exe, a.mpiexec, a.weak * k, [k], a.repeats, tmp, [1])
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     text = "\n\n".join([markdown(strong, f"Strong scaling, {a.strong:.0e} neurons"),

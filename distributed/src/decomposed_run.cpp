@@ -21,6 +21,9 @@ void DecomposedRun::attach(RunOptions& options) {
     report_.placement = comm_.traffic() - before;
     report_.rounds = p.rounds;
     report_.scan_passes = p.scan_passes;
+    report_.window_seconds = p.window_seconds;
+    report_.gather_seconds = p.gather_seconds;
+    report_.replicated_seconds = p.replicated_seconds;
     report_.extra_searches = p.extra_searches;
     placed_ = std::move(p.somas);
     Placement out;
@@ -47,10 +50,12 @@ json DecomposedRun::facts() {
   std::vector<std::uint64_t> sum{r.owned_somas,          r.halo_somas,          r.migrated,
                                  r.placement.collective_bytes, r.steps.messages,  r.steps.message_bytes,
                                  r.steps.collective_bytes,     r.gathers.messages, r.gathers.message_bytes};
+  auto micro = [](double s) { return static_cast<std::uint64_t>(s * 1e6); };
   // Peak memory so far: rank 0's (which holds the whole result) and the largest other's.
   const std::uint64_t peak = peak_rss_bytes();
   std::vector<std::uint64_t> most{r.owned_somas, ~r.owned_somas, r.steps.message_bytes, r.steps.collectives,
-                                  comm_.root() ? peak : 0, comm_.root() ? 0 : peak};
+                                  comm_.root() ? peak : 0, comm_.root() ? 0 : peak,
+                                  micro(r.window_seconds), micro(r.gather_seconds), micro(r.replicated_seconds)};
   comm_.allreduce(sum, Reduce::kSum);
   comm_.allreduce(most, Reduce::kMax);
   const double steps = static_cast<double>(std::max<std::uint64_t>(r.steps_run, 1));
@@ -64,7 +69,10 @@ json DecomposedRun::facts() {
           {"placement", {{"rounds", r.rounds},
                          {"scan_passes", r.scan_passes},
                          {"extra_searches", r.extra_searches},
-                         {"collective_bytes", sum[3]}}},
+                         {"collective_bytes", sum[3]},
+                         {"seconds_max_rank", {{"windows", most[6] * 1e-6},
+                                               {"all_gathers", most[7] * 1e-6},
+                                               {"replicated", most[8] * 1e-6}}}}},
           {"steps", r.steps_run},
           {"per_step",
            {{"migrated_axons", per_step(sum[2])},

@@ -80,7 +80,7 @@ class DecomposedEngine final : public Engine {
     // cells (the reference engine's slot order; it changes memory traffic only).
     std::vector<std::uint32_t> order;
     grid_ = local_soma_grid(scene, d, rank_, somas, order);
-    std::vector<AxonRecord> start;
+    std::vector<Bytes> out(neighbours_.size());
     for (std::uint32_t s : order) {
       if (!somas.owned[s]) {
         ++report_.halo_somas;
@@ -89,10 +89,11 @@ class DecomposedEngine final : public Engine {
       ++report_.owned_somas;
       const std::uint32_t id = somas.id[s];
       const Vec3 h = heading_draw(scene, id);
-      start.push_back({axon_start(somas.pos[s], h, scene), h, 0.0, stages_.params().step_length, id, 0,
-                       core::kNoNeuron, AxonStatus::kGrowing});
+      route({axon_start(somas.pos[s], h, scene), h, 0.0, stages_.params().step_length, id, 0, core::kNoNeuron,
+             AxonStatus::kGrowing},
+            out);
     }
-    route(start);  // a tip starts on its soma's surface, perhaps in the next block
+    receive(comm_.exchange(out));  // a tip starts on its soma's surface, perhaps in the next block
   }
 
   void warm_up() override {
@@ -102,12 +103,12 @@ class DecomposedEngine final : public Engine {
   }
 
   void save(EngineState& out) override {
-    const std::vector<AxonRecord> all = gather_records();
-    if (!comm_.root()) return;
-    out.axons.resize(n_);
-    out.heading.resize(n_);
-    out.step_length.resize(modulated_ ? n_ : 0);
-    for (const AxonRecord& r : all) {
+    if (comm_.root()) {
+      out.axons.resize(n_);
+      out.heading.resize(n_);
+      out.step_length.resize(modulated_ ? n_ : 0);
+    }
+    gather_records(false, [&](const AxonRecord& r) {
       out.axons.tip[r.id] = r.tip;
       out.axons.length[r.id] = r.length;
       out.axons.status[r.id] = r.status;
@@ -115,7 +116,7 @@ class DecomposedEngine final : public Engine {
       out.axons.target[r.id] = r.target;
       out.heading[r.id] = r.heading;
       if (modulated_) out.step_length[r.id] = r.step_length;
-    }
+    });
     out.connected = stats_.connected;
     out.exited = stats_.exited;
   }
@@ -171,36 +172,34 @@ class DecomposedEngine final : public Engine {
   }
 
   void tips(std::vector<Vec3>& out) override {
-    const std::vector<TipRecord> all = gather<TipRecord>(grow_.size() + done_.size(), [&](Bytes& b) {
-      for (std::size_t k = 0; k < grow_.size(); ++k) {
-        const TipRecord t{grow_.tip[k], grow_.id[k]};
-        append(b, &t, 1);
-      }
-      for (const AxonRecord& r : done_) {
-        const TipRecord t{r.tip, r.id};
-        append(b, &t, 1);
-      }
-    });
     out.clear();
-    if (!comm_.root()) return;
-    out.resize(n_);
-    for (const TipRecord& t : all) out[t.id] = t.tip;
+    if (comm_.root()) out.resize(n_);
+    gather<TipRecord>(
+        [&](Bytes& b) {
+          b.reserve((grow_.size() + done_.size()) * sizeof(TipRecord));
+          for (std::size_t k = 0; k < grow_.size(); ++k) {
+            const TipRecord t{grow_.tip[k], grow_.id[k]};
+            append(b, &t, 1);
+          }
+          for (const AxonRecord& r : done_) {
+            const TipRecord t{r.tip, r.id};
+            append(b, &t, 1);
+          }
+        },
+        [&](const TipRecord& t) { out[t.id] = t.tip; });
   }
 
+  // The engine's state goes into the gather as it is packed (the run's memory peak).
   void finish(NeuronState& out) override {
     std::fill(grow_.status.begin(), grow_.status.end(), AxonStatus::kMaxSteps);
-    const std::vector<AxonRecord> all = gather_records();
-    grow_ = {};
-    done_ = {};
-    if (!comm_.root()) return;
-    out.resize(n_);
-    for (const AxonRecord& r : all) {
+    if (comm_.root()) out.resize(n_);
+    gather_records(true, [&](const AxonRecord& r) {
       out.tip[r.id] = r.tip;
       out.length[r.id] = r.length;
       out.status[r.id] = r.status;
       out.steps[r.id] = r.steps;
       out.target[r.id] = r.target;
-    }
+    });
   }
 
   // Rank 0 runs the host's graph analysis on the gathered result; the others hold none.
@@ -246,18 +245,13 @@ class DecomposedEngine final : public Engine {
     }
   };
 
-  // Axons whose tips lie here stay (or arrive); the others go to their block's rank.
-  void route(const std::vector<AxonRecord>& records) {
-    std::vector<Bytes> out(neighbours_.size());
-    for (const AxonRecord& r : records) {
-      const int owner = d_.owner(r.tip);
-      if (owner == rank_) {
-        grow_.push(r);
-        continue;
-      }
+  // An axon whose tip lies here stays; the others go to their block's rank.
+  void route(const AxonRecord& r, std::vector<Bytes>& out) {
+    const int owner = d_.owner(r.tip);
+    if (owner == rank_)
+      grow_.push(r);
+    else
       send_to(owner, r, out);
-    }
-    receive(comm_.exchange(out));
   }
 
   // After a step: finished axons are kept as records, migrants sent, the rest compacted
@@ -295,38 +289,36 @@ class DecomposedEngine final : public Engine {
       for (const AxonRecord& r : records<AxonRecord>(from)) grow_.push(r);
   }
 
-  // Every rank's records on rank 0 (empty elsewhere): `fill` appends this rank's.
-  template <class T, class Fill>
-  std::vector<T> gather(std::size_t count, Fill&& fill) {
+  // Every rank's records, visited on rank 0 in rank order: `fill` packs this rank's.
+  template <class T, class Fill, class Visit>
+  void gather(Fill&& fill, Visit&& visit) {
     const Traffic before = comm_.traffic();
     Bytes bytes;
-    bytes.reserve(count * sizeof(T));
     fill(bytes);
-    const std::vector<Bytes> parts = comm_.gather(bytes);
-    bytes = Bytes();
-    std::vector<T> all;
-    std::size_t total = 0;
-    for (const Bytes& from : parts) total += from.size() / sizeof(T);
-    all.resize(total);
-    std::size_t at = 0;
-    for (const Bytes& from : parts) {
-      if (!from.empty()) std::memcpy(static_cast<void*>(all.data() + at), from.data(), from.size());
-      at += from.size() / sizeof(T);
+    for (Bytes& from : comm_.gather(std::move(bytes))) {
+      for_each_record<T>(from, visit);
+      from = Bytes();
     }
     const Traffic spent = comm_.traffic() - before;
     report_.gathers.messages += spent.messages;
     report_.gathers.message_bytes += spent.message_bytes;
-    return all;
   }
 
-  std::vector<AxonRecord> gather_records() {
-    return gather<AxonRecord>(grow_.size() + done_.size(), [&](Bytes& b) {
-      append(b, done_);
-      for (std::size_t k = 0; k < grow_.size(); ++k) {
-        const AxonRecord r = grow_.record(k);
-        append(b, &r, 1);
-      }
-    });
+  // `release`: the axons are freed as they are packed (finish).
+  template <class Visit>
+  void gather_records(bool release, Visit&& visit) {
+    gather<AxonRecord>(
+        [&](Bytes& b) {
+          b.reserve((grow_.size() + done_.size()) * sizeof(AxonRecord));
+          append(b, done_);
+          if (release) done_ = {};
+          for (std::size_t k = 0; k < grow_.size(); ++k) {
+            const AxonRecord r = grow_.record(k);
+            append(b, &r, 1);
+          }
+          if (release) grow_ = {};
+        },
+        visit);
   }
 
   const Scene& scene_;

@@ -95,12 +95,12 @@ class LocalComm final : public Comm {
     return in;
   }
 
-  std::vector<Bytes> gather(const Bytes& mine) override {
+  std::vector<Bytes> gather(Bytes mine) override {
     if (rank_ != 0) ++traffic_.messages, traffic_.message_bytes += mine.size();
-    s_.slot[rank_] = mine;
+    s_.slot[rank_] = std::move(mine);
     s_.sync();
     std::vector<Bytes> all;
-    if (rank_ == 0) all = s_.slot;
+    if (rank_ == 0) all = std::move(s_.slot), s_.slot.assign(static_cast<std::size_t>(s_.size), Bytes());
     s_.sync();
     return all;
   }

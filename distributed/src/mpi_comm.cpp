@@ -114,7 +114,7 @@ class MpiComm final : public Comm {
     return in;
   }
 
-  std::vector<Bytes> gather(const Bytes& mine) override {
+  std::vector<Bytes> gather(Bytes mine) override {
     std::vector<Bytes> all;
     if (rank_ != 0) {
       std::uint64_t n = mine.size();
@@ -128,7 +128,7 @@ class MpiComm final : public Comm {
       return all;
     }
     all.resize(static_cast<std::size_t>(size_));
-    all[0] = mine;
+    all[0] = std::move(mine);
     for (int r = 1; r < size_; ++r) {
       std::uint64_t n = 0;
       check(MPI_Recv(&n, 1, MPI_UINT64_T, r, kGatherTag, comm_, MPI_STATUS_IGNORE), "MPI_Recv");

@@ -2,6 +2,8 @@
 #include "axonguide/distributed/placement.hpp"
 
 #include <algorithm>
+#include <optional>
+#include <chrono>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
@@ -16,6 +18,19 @@ using core::Vec3;
 namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+
+// Adds the wall time of its scope to `total` (seconds).
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), t0_(std::chrono::steady_clock::now()) {}
+  ~Stopwatch() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+  Stopwatch(const Stopwatch&) = delete;
+  Stopwatch& operator=(const Stopwatch&) = delete;
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point t0_;
+};
 
 // What every rank knows of one soma of the current id block.
 struct Soma {
@@ -89,6 +104,7 @@ class Placer {
   // is random sequential addition's); otherwise `requests` lists the pending somas that can
   // search for one more clear attempt, and the first of them always can (or it fails).
   bool scan(std::vector<std::uint32_t>& requests) {
+    Stopwatch w(out_.replicated_seconds);
     ++out_.scan_passes;
     requests.clear();
     block_index_.clear(0);
@@ -133,20 +149,30 @@ class Placer {
       ++s.asks;
       active.push_back(k);
     }
-    std::vector<std::vector<Found>> found(active.size());
+    std::vector<Found> found;
+    std::vector<std::size_t> offset;
     while (!active.empty()) {
-      found.assign(active.size(), {});
+      std::optional<Stopwatch> clock(std::in_place, out_.window_seconds);
+      // Slots for every attempt of every window (most windows are one attempt).
+      offset.assign(active.size() + 1, 0);
+      for (std::size_t j = 0; j < active.size(); ++j) offset[j + 1] = offset[j] + window[active[j]];
+      found.assign(offset.back(), Found{{}, kNone, kNone});
       tbb::parallel_for(std::size_t{0}, active.size(), [&](std::size_t j) {
         const std::uint32_t k = active[j];
         const std::uint32_t end = std::min(max_attempts_, somas_[k].next + window[k]);
+        Found* slot = found.data() + offset[j];
         for (std::uint32_t t = somas_[k].next; t < end; ++t) {
           const Vec3 x = soma_draw(scene_, base_ + k, t);
-          if (d_.owner(x) == rank_ && !earlier_.overlaps(near_pos_, x, min_dist2_)) found[j].push_back({x, k, t});
+          if (d_.owner(x) == rank_ && !earlier_.overlaps(near_pos_, x, min_dist2_)) *slot++ = {x, k, t};
         }
       });
+      found.erase(std::remove_if(found.begin(), found.end(), [](const Found& f) { return f.k == kNone; }),
+                  found.end());
       Bytes bytes;
-      for (const auto& f : found) append(bytes, f);
+      append(bytes, found);
+      clock.emplace(out_.gather_seconds);
       const std::vector<Bytes> all = comm_.allgather(bytes);
+      clock.emplace(out_.replicated_seconds);
       ++out_.rounds;
       // Each window's clear attempts, ascending, from whichever ranks found them.
       std::vector<Found> round;
@@ -180,6 +206,7 @@ class Placer {
 
   // The block's final somas: into this rank's halo list and overlap index, and rank 0's copy.
   void keep_block() {
+    Stopwatch w(out_.replicated_seconds);
     for (std::size_t k = 0; k < m_; ++k) {
       const Vec3 x = final_[k];
       if (comm_.root()) out_.all[base_ + k] = x;

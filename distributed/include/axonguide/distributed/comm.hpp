@@ -46,8 +46,9 @@ class Comm {
   virtual void set_neighbours(const std::vector<int>& peers) = 0;
   // Sends out[k] to peer k and returns what each peer sent, in peer order.
   virtual std::vector<Bytes> exchange(const std::vector<Bytes>& out) = 0;
-  // Every rank's bytes on rank 0, in rank order; empty on the other ranks.
-  virtual std::vector<Bytes> gather(const Bytes& mine) = 0;
+  // Every rank's bytes on rank 0, in rank order; empty on the other ranks. Takes the
+  // buffer, so that rank 0 keeps its own without a copy.
+  virtual std::vector<Bytes> gather(Bytes mine) = 0;
 
   const Traffic& traffic() const { return traffic_; }
 
@@ -66,6 +67,16 @@ void append(Bytes& out, const T* data, std::size_t count) {
 template <class T>
 void append(Bytes& out, const std::vector<T>& v) {
   append(out, v.data(), v.size());
+}
+// Calls visit(record) for every record in `in`, in order.
+template <class T, class Visit>
+void for_each_record(const Bytes& in, Visit&& visit) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  for (std::size_t at = 0; at + sizeof(T) <= in.size(); at += sizeof(T)) {
+    T r;
+    std::memcpy(static_cast<void*>(&r), in.data() + at, sizeof(T));
+    visit(r);
+  }
 }
 template <class T>
 std::vector<T> records(const Bytes& in) {

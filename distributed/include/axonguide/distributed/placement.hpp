@@ -42,6 +42,10 @@ struct DecomposedPlacement {
   std::uint64_t rounds = 0;      // all-gathers the searches took
   std::uint64_t scan_passes = 0;     // scans of id blocks
   std::uint64_t extra_searches = 0;  // searches for pending somas
+  // This rank's wall time (s) in the searches' windows (draws and its overlap tests), in
+  // their all-gathers (waiting included), and in the replicated work (applying the rounds,
+  // the scans, keeping the block's somas).
+  double window_seconds = 0, gather_seconds = 0, replicated_seconds = 0;
 };
 
 // The id block for a scene: about one overlap in ten at a block's end, within [256, 16384].

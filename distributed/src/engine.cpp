@@ -192,8 +192,9 @@ class DecomposedEngine final : public Engine {
   // The engine's state goes into the gather as it is packed (the run's memory peak).
   void finish(NeuronState& out) override {
     std::fill(grow_.status.begin(), grow_.status.end(), AxonStatus::kMaxSteps);
-    if (comm_.root()) out.resize(n_);
+    bool sized = false;  // rank 0 sizes the result once the engine's own arrays are freed
     gather_records(true, [&](const AxonRecord& r) {
+      if (!sized) out.resize(n_), sized = true;
       out.tip[r.id] = r.tip;
       out.length[r.id] = r.length;
       out.status[r.id] = r.status;
@@ -231,6 +232,11 @@ class DecomposedEngine final : public Engine {
       tip[to] = tip[from], heading[to] = heading[from];
       length[to] = length[from], step_length[to] = step_length[from];
       status[to] = status[from];
+    }
+    void shrink() {
+      for (auto* v : {&id, &steps, &target, &slots}) v->shrink_to_fit();
+      tip.shrink_to_fit(), heading.shrink_to_fit(), length.shrink_to_fit(), step_length.shrink_to_fit();
+      status.shrink_to_fit();
     }
     void resize(std::size_t n) {  // slots stay 0..n-1
       for (auto* v : {&id, &steps, &target, &slots}) v->resize(n);
@@ -273,6 +279,7 @@ class DecomposedEngine final : public Engine {
       ++w;
     }
     grow_.resize(w);
+    if (grow_.id.capacity() > 1024 && 4 * w < grow_.id.capacity()) grow_.shrink();  // most have stopped growing
     receive(comm_.exchange(out));
   }
 

@@ -108,7 +108,7 @@ def markdown(rows, title):
             f"-np {r['ranks']} ({'×'.join(map(str, r['blocks']))})"
         dec = r["ranks"] > 0
         out.append(
-            f"| {r["neurons"]:,} | {who} | {r['wall_s']:.2f} ({r['wall_min_s']:.2f}–{r['wall_max_s']:.2f}) | "
+            f"| {r['neurons']:,} | {who} | {r['wall_s']:.2f} ({r['wall_min_s']:.2f}–{r['wall_max_s']:.2f}) | "
             f"{r['placement_s']:.2f} | {r['steps_s']:.2f} | {r['readback_s'] + r['graph_s'] + r['output_s']:.2f} | "
             + (f"{r['placement_rounds']} | {r['migrated_per_step']:.0f} | {r['messages_per_step']:.1f} | "
                f"{r['message_bytes_per_step']:.0f} + {r['collective_bytes_per_step']:.0f} | "

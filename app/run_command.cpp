@@ -92,7 +92,9 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
   fmt::print("axonguide {} ({}) — {} backend, {} thread{}{}\n", kVersion, kCommit, args.backend, threads,
              threads == 1 ? "" : "s",
              r.decomposition.is_null() ? std::string()
-                                       : fmt::format(" on each of {} ranks", r.decomposition["ranks"].get<int>()));
+                                       : r.decomposition["ranks"].get<int>() == 1
+                                             ? std::string(" on 1 rank")
+                                             : fmt::format(" on each of {} ranks", r.decomposition["ranks"].get<int>()));
   fmt::print("scene     {} (seed {})\n          {}\n", origin, s.seed, scene_line(s));
   fmt::print("units     {}{}\n", s.units.describe(), s.units.declared() ? "" : " (none declared: the report's units)");
   fmt::print("axons     step {} {}{}, {}{}\n", s.axons.step_length, s.units.length,

@@ -38,9 +38,14 @@ void DecomposedRun::attach(RunOptions& options) {
     placed_.reset();
     return make_decomposed_engine(scene, d_, comm_, std::move(somas), report_);
   };
+  // Between two steps: part of a step's traffic.
   options.agree = [this](unsigned flags) {
+    const Traffic before = comm_.traffic();
     std::vector<std::uint64_t> v{flags};
     comm_.allreduce(v, Reduce::kOr);
+    const Traffic spent = comm_.traffic() - before;
+    report_.steps.collectives += spent.collectives;
+    report_.steps.collective_bytes += spent.collective_bytes;
     return static_cast<unsigned>(v[0]);
   };
 }

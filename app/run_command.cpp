@@ -434,10 +434,12 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
   if (ranks) ranks->run->attach(options);
   RunResult result;
   int code = kExitOk;
+  bool writing = false;  // rank 0 writes the outputs after the last collective work
   try {
     result = with_threads(threads, [&] {
       RunResult r = run_scene(scene, options);
       if (ranks) r.decomposition = ranks->run->facts();
+      writing = true;
       if (root) write_outputs(r, dir, args.backend, threads, job.warnings);
       return r;
     });
@@ -461,7 +463,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
     return 128 + sig;  // 130 for SIGINT, 143 for SIGTERM
   } catch (...) {
     std::exception_ptr error = std::current_exception();
-    bool every_rank = !ranks;
+    bool every_rank = !ranks || writing;  // the others wait only for rank 0's exit code
     if (ranks) {
       try {
         std::rethrow_exception(error);
@@ -487,10 +489,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
     }
     throw QuietExit{ranks ? static_cast<int>(ranks->most(static_cast<std::uint64_t>(code))) : code};
   }
-  if (ranks && !root) {
-    ranks->most(0);  // rank 0 has written the outputs: its code is the run's
-    return kExitOk;
-  }
+  if (ranks && !root) return static_cast<int>(ranks->most(0));  // rank 0's code, once it has written the outputs
   std::error_code ec;
   fs::remove(dir / kCheckpointName, ec);  // the run is whole: the checkpoint is not needed
   for (const ParticleFrame& fr : result.frames)

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "axonguide/core/types.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/growth_setup.hpp"
 
@@ -66,6 +67,9 @@ Decomposition decompose(const Scene& scene, int ranks) {
         "without mpirun",
         name_of(scene.cues.field)));
   const auto& nn = scene.neurons;
+  if (nn.count >= core::kNoNeuron)
+    throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)", nn.count,
+                                 core::kNoNeuron));
   Decomposition d;
   d.ranks = ranks;
   double extent = std::max(nn.radius, scene.bounds_radius());

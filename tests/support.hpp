@@ -104,6 +104,31 @@ inline rc::Gen<Scene> gen_direct_scene() {
   });
 }
 
+// Placements for properties: every region, three samplers, packing fractions from 0.01
+// to 0.45 (past RSA's jamming near 0.38), attempt limits low enough to fail, and two
+// populations; up to max_count somas, ids across many placement blocks.
+inline rc::Gen<Scene> gen_placement_scene(std::uint64_t max_count) {
+  return rc::gen::exec([max_count] {
+    Scene s;
+    s.seed = *rc::gen::arbitrary<std::uint64_t>();
+    s.neurons.count = *rc::gen::inRange<std::uint64_t>(2, max_count);
+    s.neurons.shape = *rc::gen::element(RegionShape::kBall, RegionShape::kBox, RegionShape::kSphere);
+    s.neurons.sampler = *rc::gen::element(Sampler::kRejection, Sampler::kNormal, Sampler::kTrig);
+    s.neurons.radius = 10.0;
+    const double phi = *rc::gen::element(0.01, 0.1, 0.3, 0.45);
+    const double n = static_cast<double>(s.neurons.count);
+    s.neurons.soma_radius = s.neurons.shape == RegionShape::kSphere ? 10.0 * std::sqrt(4.0 * phi / n)
+                                                                    : 10.0 * std::cbrt(phi / n);
+    s.neurons.max_attempts = *rc::gen::element(1u, 5u, 1000u);
+    if (*rc::gen::element(false, true) && s.neurons.shape != RegionShape::kSphere) {
+      s.neurons.populations = {Population{s.neurons.count / 2, {-4.0, 0, 0}, 5.0},
+                               Population{s.neurons.count - s.neurons.count / 2, {4.0, 0, 0}, 5.0}};
+      s.neurons.soma_radius = 5.0 * std::cbrt(std::min(phi, 0.3) / n * 2.0);
+    }
+    return s;
+  });
+}
+
 // Count-based sensing: the count noise form (the default; set explicitly so that a test
 // does not depend on the default).
 inline void use_count_sensing(Scene& s) { s.guidance.noise = core::NoiseForm::kCount; }

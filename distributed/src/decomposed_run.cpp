@@ -19,12 +19,7 @@ void DecomposedRun::attach(RunOptions& options) {
       throw OnEveryRank(std::current_exception());
     }
     report_.placement = comm_.traffic() - before;
-    report_.rounds = p.rounds;
-    report_.scan_passes = p.scan_passes;
-    report_.window_seconds = p.window_seconds;
-    report_.gather_seconds = p.gather_seconds;
-    report_.replicated_seconds = p.replicated_seconds;
-    report_.extra_searches = p.extra_searches;
+    report_.placing = p.stats;
     placed_ = std::move(p.somas);
     Placement out;
     out.soma = std::move(p.all);
@@ -60,7 +55,8 @@ json DecomposedRun::facts() {
   const std::uint64_t peak = peak_rss_bytes();
   std::vector<std::uint64_t> most{r.owned_somas, ~r.owned_somas, r.steps.message_bytes, r.steps.collectives,
                                   comm_.root() ? peak : 0, comm_.root() ? 0 : peak,
-                                  micro(r.window_seconds), micro(r.gather_seconds), micro(r.replicated_seconds)};
+                                  micro(r.placing.window_seconds), micro(r.placing.gather_seconds),
+                                  micro(r.placing.replicated_seconds)};
   comm_.allreduce(sum, Reduce::kSum);
   comm_.allreduce(most, Reduce::kMax);
   const double steps = static_cast<double>(std::max<std::uint64_t>(r.steps_run, 1));
@@ -71,9 +67,9 @@ json DecomposedRun::facts() {
           {"halo_lu", d_.halo},
           {"somas_per_rank", {{"min", ~most[1]}, {"max", most[0]}}},
           {"halo_somas", sum[1]},
-          {"placement", {{"rounds", r.rounds},
-                         {"scan_passes", r.scan_passes},
-                         {"extra_searches", r.extra_searches},
+          {"placement", {{"rounds", r.placing.rounds},
+                         {"scan_passes", r.placing.scan_passes},
+                         {"extra_searches", r.placing.extra_searches},
                          {"collective_bytes", sum[3]},
                          {"seconds_max_rank", {{"windows", most[6] * 1e-6},
                                                {"all_gathers", most[7] * 1e-6},

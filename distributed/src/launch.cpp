@@ -1,5 +1,7 @@
 #include "axonguide/distributed/launch.hpp"
+#include "axonguide/distributed/mpi_comm.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
 
@@ -24,6 +26,15 @@ Launch detect_launch() {
   if (l.local_size < 1) l.local_size = 1;
   return l;
 }
+
+#ifndef AXG_HAVE_MPI
+// A build without MPI has no job to end but this process.
+void abort_job(int code) {
+  std::fflush(stdout);
+  std::fflush(stderr);
+  std::_Exit(code);
+}
+#endif
 
 bool have_mpi() {
 #ifdef AXG_HAVE_MPI

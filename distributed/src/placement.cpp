@@ -92,7 +92,7 @@ class Placer {
     for (std::size_t k = 0; k < m_; ++k) ks[k] = static_cast<std::uint32_t>(k);
     search(ks);
     while (!scan(ks)) {
-      out_.extra_searches += ks.size();
+      out_.stats.extra_searches += ks.size();
       search(ks);
     }
   }
@@ -104,8 +104,8 @@ class Placer {
   // is random sequential addition's); otherwise `requests` lists the pending somas that can
   // search for one more clear attempt, and the first of them always can (or it fails).
   bool scan(std::vector<std::uint32_t>& requests) {
-    Stopwatch w(out_.replicated_seconds);
-    ++out_.scan_passes;
+    Stopwatch w(out_.stats.replicated_seconds);
+    ++out_.stats.scan_passes;
     requests.clear();
     block_index_.clear(0);
     for (std::size_t k = 0; k < settled_; ++k) block_index_.insert(static_cast<std::uint32_t>(k), final_[k]);
@@ -152,7 +152,7 @@ class Placer {
     std::vector<Found> found;
     std::vector<std::size_t> offset;
     while (!active.empty()) {
-      std::optional<Stopwatch> clock(std::in_place, out_.window_seconds);
+      std::optional<Stopwatch> clock(std::in_place, out_.stats.window_seconds);
       // Slots for every attempt of every window (most windows are one attempt).
       offset.assign(active.size() + 1, 0);
       for (std::size_t j = 0; j < active.size(); ++j) offset[j + 1] = offset[j] + window[active[j]];
@@ -170,10 +170,10 @@ class Placer {
                   found.end());
       Bytes bytes;
       append(bytes, found);
-      clock.emplace(out_.gather_seconds);
+      clock.emplace(out_.stats.gather_seconds);
       const std::vector<Bytes> all = comm_.allgather(bytes);
-      clock.emplace(out_.replicated_seconds);
-      ++out_.rounds;
+      clock.emplace(out_.stats.replicated_seconds);
+      ++out_.stats.rounds;
       // Each window's clear attempts, ascending, from whichever ranks found them.
       std::vector<Found> round;
       for (const Bytes& from : all) {
@@ -206,7 +206,7 @@ class Placer {
 
   // The block's final somas: into this rank's halo list and overlap index, and rank 0's copy.
   void keep_block() {
-    Stopwatch w(out_.replicated_seconds);
+    Stopwatch w(out_.stats.replicated_seconds);
     for (std::size_t k = 0; k < m_; ++k) {
       const Vec3 x = final_[k];
       if (comm_.root()) out_.all[base_ + k] = x;

@@ -79,25 +79,10 @@ std::map<std::string, std::string> one_process(const Scene& scene) { return test
 // --- placement -------------------------------------------------------------------------
 
 RC_GTEST_PROP(decomposed, PlacementIsTheOneProcessPlacement, ()) {
-  Scene s;
+  Scene s = *test::gen_placement_scene(5000);
   s.guidance.model = GuidanceModel::kDirect;
-  s.seed = *rc::gen::arbitrary<std::uint64_t>();
-  s.neurons.count = *rc::gen::inRange<std::uint64_t>(2, 5000);
-  s.neurons.shape = *rc::gen::element(RegionShape::kBall, RegionShape::kBox, RegionShape::kSphere);
-  s.neurons.sampler = *rc::gen::element(Sampler::kRejection, Sampler::kNormal, Sampler::kTrig);
-  s.neurons.radius = 10.0;
-  const double phi = *rc::gen::element(0.01, 0.1, 0.3, 0.45);
-  const double n = static_cast<double>(s.neurons.count);
-  s.neurons.soma_radius = s.neurons.shape == RegionShape::kSphere ? 10.0 * std::sqrt(4.0 * phi / n)
-                                                                  : 10.0 * std::cbrt(phi / n);
-  s.neurons.soma_radius = std::min(s.neurons.soma_radius, 1.5);
-  s.neurons.max_attempts = *rc::gen::element(1u, 3u, 1000u);
+  s.neurons.soma_radius = std::min(s.neurons.soma_radius, 1.5);  // a halo that 8 blocks can hold
   s.neurons.overlap_reject = *rc::gen::element(true, true, true, false);
-  if (*rc::gen::element(false, true) && s.neurons.shape != RegionShape::kSphere) {
-    s.neurons.populations = {Population{s.neurons.count / 2, {-4.0, 0, 0}, 5.0},
-                             Population{s.neurons.count - s.neurons.count / 2, {4.0, 0, 0}, 5.0}};
-    s.neurons.soma_radius = 5.0 * std::cbrt(std::min(phi, 0.3) / n * 2.0);
-  }
   const int ranks = *rc::gen::inRange(1, 9);
   const std::size_t id_block = *rc::gen::element<std::size_t>(0, s.neurons.count / 3 + 1, 97, 4096);
   RC_TAG(ranks);

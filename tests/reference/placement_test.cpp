@@ -22,6 +22,7 @@
 #include "axonguide/sampler_nd.hpp"
 #include "axonguide/scene.hpp"
 #include "axonguide/validate/validate.hpp"
+#include "support.hpp"
 
 namespace axg {
 namespace {
@@ -196,22 +197,7 @@ Sequential place_sequentially(const Scene& scene) {
 // attempt limits low enough to fail: the same somas, bit for bit, the same redraw count,
 // and the same neuron named when it fails.
 RC_GTEST_PROP(placement, BlockedOverlapPassIsRandomSequentialAddition, ()) {
-  Scene s;
-  s.seed = *rc::gen::arbitrary<std::uint64_t>();
-  s.neurons.count = *rc::gen::inRange<std::uint64_t>(2, 12000);
-  s.neurons.shape = *rc::gen::element(RegionShape::kBall, RegionShape::kBox, RegionShape::kSphere);
-  s.neurons.sampler = *rc::gen::element(Sampler::kRejection, Sampler::kNormal, Sampler::kTrig);
-  s.neurons.radius = 10.0;
-  const double phi = *rc::gen::element(0.01, 0.1, 0.3, 0.45);
-  const double n = static_cast<double>(s.neurons.count);
-  s.neurons.soma_radius = s.neurons.shape == RegionShape::kSphere ? 10.0 * std::sqrt(4.0 * phi / n)
-                                                                  : 10.0 * std::cbrt(phi / n);
-  s.neurons.max_attempts = *rc::gen::element(1u, 5u, 1000u);
-  if (*rc::gen::element(false, true) && s.neurons.shape != RegionShape::kSphere) {
-    s.neurons.populations = {Population{s.neurons.count / 2, {-4.0, 0, 0}, 5.0},
-                             Population{s.neurons.count - s.neurons.count / 2, {4.0, 0, 0}, 5.0}};
-    s.neurons.soma_radius = 5.0 * std::cbrt(std::min(phi, 0.3) / n * 2.0);
-  }
+  const Scene s = *test::gen_placement_scene(12000);
   const Sequential expected = place_sequentially(s);
   std::optional<Placement> got;
   std::string error;

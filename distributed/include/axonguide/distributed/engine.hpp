@@ -19,8 +19,7 @@ namespace axg::distributed {
 // This rank's counts for the run facts (DecomposedRun::facts sums them over the ranks).
 struct RankReport {
   std::uint64_t owned_somas = 0, halo_somas = 0;
-  std::uint64_t rounds = 0, scan_passes = 0, extra_searches = 0;
-  double window_seconds = 0, gather_seconds = 0, replicated_seconds = 0;  // placement
+  PlacementStats placing;
   Traffic placement, steps, gathers;
   std::uint64_t steps_run = 0;
   std::uint64_t migrated = 0;  // axons sent to a neighbouring block

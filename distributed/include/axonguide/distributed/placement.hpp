@@ -35,17 +35,22 @@ struct RankSomas {
   std::vector<bool> owned;        // in this rank's block (else within its halo)
 };
 
+// How the placement went on this rank (the run facts).
+struct PlacementStats {
+  std::uint64_t rounds = 0;          // all-gathers the searches took
+  std::uint64_t scan_passes = 0;     // scans of id blocks
+  std::uint64_t extra_searches = 0;  // searches for pending somas
+  // Wall time (s) in the searches' windows (draws and this rank's overlap tests), in their
+  // all-gathers (waiting included), and in the replicated work (applying the rounds, the
+  // scans, keeping the block's somas).
+  double window_seconds = 0, gather_seconds = 0, replicated_seconds = 0;
+};
+
 struct DecomposedPlacement {
   RankSomas somas;               // this rank's block and halo
   std::vector<core::Vec3> all;   // rank 0: every soma by id; empty on the other ranks
   std::uint64_t redraws = 0;     // attempts beyond the first, summed over all neurons
-  std::uint64_t rounds = 0;      // all-gathers the searches took
-  std::uint64_t scan_passes = 0;     // scans of id blocks
-  std::uint64_t extra_searches = 0;  // searches for pending somas
-  // This rank's wall time (s) in the searches' windows (draws and its overlap tests), in
-  // their all-gathers (waiting included), and in the replicated work (applying the rounds,
-  // the scans, keeping the block's somas).
-  double window_seconds = 0, gather_seconds = 0, replicated_seconds = 0;
+  PlacementStats stats;
 };
 
 // The id block for a scene: about one overlap in ten at a block's end, within [256, 16384].

@@ -97,12 +97,13 @@ class Placer {
     }
   }
 
-  // The block's lower ids in id order (from the first soma the last scan left pending): soma
-  // k takes its first clear attempt that no lower id's position overlaps. A soma whose known clear attempts are all overlapped is
-  // pending, and so is every position after it: they stand only if the pending ones do
-  // not move into them. Returns true when no soma is pending (every position is final and
-  // is random sequential addition's); otherwise `requests` lists the pending somas that can
-  // search for one more clear attempt, and the first of them always can (or it fails).
+  // The block in id order, from the first soma the last scan left pending: soma k takes its
+  // first known clear attempt that no lower id's position overlaps. A soma whose known clear
+  // attempts are all overlapped is pending, and so is every position after it: they stand
+  // only if the pending ones do not move into them. Returns true when no soma is pending
+  // (every position is final and is random sequential addition's); otherwise `requests`
+  // lists the pending somas that can search on, and the first of them always can (or it
+  // fails, as RSA does).
   bool scan(std::vector<std::uint32_t>& requests) {
     Stopwatch w(out_.stats.replicated_seconds);
     ++out_.stats.scan_passes;

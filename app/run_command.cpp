@@ -160,8 +160,11 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
 // SIGINT and SIGTERM set a flag; the run stops at the end of the current step.
 volatile std::sig_atomic_t g_signal = 0;
 
+// Ranks other than 0 of a decomposed run stop as quietly as they run.
+volatile std::sig_atomic_t g_quiet = 0;
+
 extern "C" void on_stop_signal(int sig) {
-  if (g_signal == 0) {
+  if (g_signal == 0 && g_quiet == 0) {
     static const char msg[] = "\naxonguide: stopping at the end of the current step (checkpoint, then exit)\n";
     [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
   }
@@ -322,6 +325,28 @@ Job fresh_job(const RunArgs& args) {
   return job;
 }
 
+// The memory a run needs where it runs: the whole run in one process; under mpirun, on
+// each node, rank 0's whole result (assumed on this node) and the node's ranks' shares, at
+// twice the one-process bytes a neuron (the decomposed engine's records and halo).
+void check_run_memory(const Scene& scene, Ranks* ranks) {
+  const double whole = static_cast<double>(estimate_run_bytes(scene));
+  double need = whole;
+  if (ranks) {
+    const distributed::Launch launch = distributed::detect_launch();
+    need += 2.0 * whole * launch.local_size / ranks->comm.size();
+  }
+  check_memory_estimate(need >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(need),
+                        fmt::format("a run of {} neurons{}", scene.neurons.count,
+                                    ranks ? fmt::format(" ({} of {} ranks on this node)",
+                                                        distributed::detect_launch().local_size, ranks->comm.size())
+                                          : std::string()));
+}
+
+// A checkpoint's step and scene in 64 bits, for the ranks to compare.
+std::uint64_t checkpoint_digest(const RunCheckpoint& c) {
+  return (std::hash<std::string>{}(c.scene_hash) ^ (static_cast<std::uint64_t>(c.step) * 0x9E3779B97F4A7C15ull)) | 1u;
+}
+
 int run_job(const RunArgs& args, Ranks* ranks, int threads) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool root = !ranks || ranks->root();
@@ -349,7 +374,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
           args.backend));
     options.make_engine = engine_factory(args.backend);
     if (!resuming) {
-      check_memory_estimate(estimate_run_bytes(job.scene), fmt::format("a run of {} neurons", job.scene.neurons.count));
+      check_run_memory(job.scene, ranks);
       if (ranks) ranks->run = std::make_unique<distributed::DecomposedRun>(job.scene, ranks->comm);
     }
   });
@@ -415,14 +440,27 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
   }
   // The other ranks of a resumed run read its scene and checkpoint once rank 0 has
   // checked the folder.
-  if (ranks && resuming)
+  if (ranks && resuming) {
     together(ranks, [&] {
-      if (ranks->root()) return;
-      job = resume_job(args, dir);
-      ranks->run = std::make_unique<distributed::DecomposedRun>(job.scene, ranks->comm);
+      if (!ranks->root()) {
+        job = resume_job(args, dir);
+        ranks->run = std::make_unique<distributed::DecomposedRun>(job.scene, ranks->comm);
+      }
+      check_run_memory(job.scene, ranks);
     });
+    // Every rank must resume the same checkpoint (a shared file system): else they would
+    // not even make the same collective calls.
+    const std::uint64_t seen = job.checkpoint ? checkpoint_digest(*job.checkpoint) : 0;
+    together(ranks, [&] {
+      if (ranks->most(seen) != seen || ~ranks->most(~seen) != seen)
+        throw RunError(fmt::format("--resume {}: the ranks read different checkpoints (or some none); a run over "
+                                   "ranks resumes from a folder every rank sees alike (a shared file system)",
+                                   dir.string()));
+    });
+  }
   const Scene& scene = job.scene;
 
+  g_quiet = root ? 0 : 1;
   StopSignals signals;
   Progress progress;
   if (root) options.on_step = [&](const StepStats& s, std::uint32_t steps) { progress.update(s, steps); };
@@ -490,6 +528,8 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
     throw QuietExit{ranks ? static_cast<int>(ranks->most(static_cast<std::uint64_t>(code))) : code};
   }
   if (ranks && !root) return static_cast<int>(ranks->most(0));  // rank 0's code, once it has written the outputs
+  if (StopSignals::received()) code = StopSignals::exit_code();  // after the last step: the outputs are whole
+  if (ranks) ranks->most(static_cast<std::uint64_t>(code));     // the other ranks end with this code
   std::error_code ec;
   fs::remove(dir / kCheckpointName, ec);  // the run is whole: the checkpoint is not needed
   for (const ParticleFrame& fr : result.frames)
@@ -506,12 +546,9 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
                   wall);
     fmt::print("outputs   {}/ (manifest.json lists every file with its SHA-256)\n", dir.string());
   }
-  if (StopSignals::received()) {
+  if (StopSignals::received())
     std::fprintf(stderr, "axonguide: %s arrived after the last step; the outputs were finished first, and %s is a "
                          "whole run\n", StopSignals::name(), dir.c_str());
-    code = StopSignals::exit_code();
-  }
-  if (ranks) ranks->most(static_cast<std::uint64_t>(code));
   return code;
 }
 
@@ -521,9 +558,9 @@ int cmd_run(const RunArgs& args) {
   const distributed::Launch launch = distributed::detect_launch();
   if (!launch.launched) return run_job(args, nullptr, resolve_threads(args.threads));
   // Started by mpirun: one network over its ranks, each with its share of the node's cores.
+#ifdef AXG_HAVE_MPI
   const int threads =
       args.threads > 0 ? args.threads : std::max(1, resolve_threads(0) / std::max(1, launch.local_size));
-#ifdef AXG_HAVE_MPI
   distributed::MpiSession session;
   const std::unique_ptr<distributed::Comm> comm = distributed::make_mpi_comm();
   Ranks ranks{*comm, nullptr};
@@ -545,7 +582,7 @@ int cmd_run(const RunArgs& args) {
                  "axonguide: note: started as rank 0 of %d by mpirun, but this build has no MPI (install "
                  "libopenmpi-dev and rebuild): the run goes on in this one process; ranks 1-%d exit\n",
                  launch.size, launch.size - 1);
-  return run_job(args, nullptr, threads);
+  return run_job(args, nullptr, resolve_threads(args.threads));
 #endif
 }
 

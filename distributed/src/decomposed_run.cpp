@@ -12,12 +12,7 @@ DecomposedRun::DecomposedRun(const Scene& scene, Comm& comm) : comm_(comm), d_(d
 void DecomposedRun::attach(RunOptions& options) {
   options.place = [this](const Scene& scene) {
     const Traffic before = comm_.traffic();
-    DecomposedPlacement p;
-    try {
-      p = place_decomposed(scene, d_, comm_);
-    } catch (...) {
-      throw OnEveryRank(std::current_exception());
-    }
+    DecomposedPlacement p = place_decomposed(scene, d_, comm_);
     report_.placement = comm_.traffic() - before;
     report_.placing = p.stats;
     placed_ = std::move(p.somas);

@@ -72,7 +72,9 @@ Decomposition decompose(const Scene& scene, int ranks) {
                                  core::kNoNeuron));
   Decomposition d;
   d.ranks = ranks;
-  double extent = std::max(nn.radius, scene.bounds_radius());
+  // The somas' extent: blocks share the somas, and so the work. Tips beyond it (up to the
+  // bounds) belong to the outer blocks, whose points are clamped into them.
+  double extent = nn.populations.empty() ? nn.radius : 0.0;
   for (const Population& p : nn.populations)
     extent = std::max({extent, std::abs(p.center.x) + p.radius, std::abs(p.center.y) + p.radius,
                        std::abs(p.center.z) + p.radius});

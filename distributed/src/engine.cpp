@@ -33,27 +33,29 @@ struct TipRecord {
   std::uint32_t id;
 };
 
-// The grid over this rank's somas: the cells of the one-process soma grid's size, over the
-// block and its halo (clipped to the domain, where every soma lies). Which cells a search
-// visits changes nothing: find_contact's answer is the best (t, id) over the somas within
-// reach, and all of them are in this grid.
+// The grid over this rank's somas: cells of the one-process soma grid's size over the box
+// of its somas (its block and halo at most), coarsened while there are more than about two
+// cells a soma. Which cells a search visits changes nothing: find_contact's answer is the
+// best (t, id) over the somas within reach, and all of them are in this grid, whose cells
+// clamp every point (the tips beyond the box included) monotonically.
 // `order` receives the somas' local indices in the grid's order (by cell, then id).
-CellGrid local_soma_grid(const Scene& scene, const Decomposition& d, int rank, const RankSomas& somas,
-                         std::vector<std::uint32_t>& order) {
-  const double cell = soma_grid_geometry(scene).cell;
-  const std::array<int, 3> b = d.block(rank);
-  double lo[3], n[3];
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = std::max(-d.half, -d.half + b[a] * d.edge[a] - d.halo);
-    const double hi = std::min(d.half, -d.half + (b[a] + 1) * d.edge[a] + d.halo);
-    n[a] = std::max(1.0, std::ceil((hi - lo[a]) / cell));
+CellGrid local_soma_grid(const Scene& scene, const RankSomas& somas, std::vector<std::uint32_t>& order) {
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+  for (std::size_t s = 0; s < somas.pos.size(); ++s) {
+    const Vec3 p = somas.pos[s];
+    lo = s == 0 ? p : Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = s == 0 ? p : Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
+  double cell = soma_grid_geometry(scene).cell;
+  const double limit = 2.0 * static_cast<double>(somas.pos.size()) + 64.0;
+  auto count = [&](double lo_a, double hi_a) { return std::max(1.0, std::ceil((hi_a - lo_a) / cell + 1e-9)); };
+  while (count(lo.x, hi.x) * count(lo.y, hi.y) * count(lo.z, hi.z) > limit) cell *= 1.25;
   GridGeometry g;
-  g.origin = {lo[0], lo[1], lo[2]};
+  g.origin = lo;
   g.cell = cell;
-  g.nx = static_cast<int>(n[0]);
-  g.ny = static_cast<int>(n[1]);
-  g.nz = static_cast<int>(n[2]);
+  g.nx = static_cast<int>(count(lo.x, hi.x));
+  g.ny = static_cast<int>(count(lo.y, hi.y));
+  g.nz = static_cast<int>(count(lo.z, hi.z));
   CellGrid grid = build_cell_grid(g, somas.pos);
   order = grid.ids;
   for (std::uint32_t& k : grid.ids) k = somas.id[k];  // local index -> neuron id (both ascending)
@@ -79,7 +81,7 @@ class DecomposedEngine final : public Engine {
     // The axons start in the grid's order, so that neighbouring slots search neighbouring
     // cells (the reference engine's slot order; it changes memory traffic only).
     std::vector<std::uint32_t> order;
-    grid_ = local_soma_grid(scene, d, rank_, somas, order);
+    grid_ = local_soma_grid(scene, somas, order);
     std::vector<Bytes> out(neighbours_.size());
     for (std::uint32_t s : order) {
       if (!somas.owned[s]) {

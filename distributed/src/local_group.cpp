@@ -18,8 +18,12 @@ struct GroupBroken : std::runtime_error {
   GroupBroken() : std::runtime_error("another rank of the local group failed") {}
 };
 
+// The collectives, so that a rank calling another one than the others is caught (MPI would
+// hang or mismatch).
+enum class Call { kAllgather, kAllreduce, kExchange, kGather };
+
 struct Shared {
-  explicit Shared(int k) : size(k), slot(k), matrix(k, std::vector<Bytes>(k)), values(k), peers(k) {}
+  explicit Shared(int k) : size(k), slot(k), matrix(k, std::vector<Bytes>(k)), values(k), peers(k), call(k) {}
   int size;
   std::mutex m;
   std::condition_variable cv;
@@ -30,6 +34,7 @@ struct Shared {
   std::vector<std::vector<Bytes>> matrix;  // [from][to] for exchanges
   std::vector<std::vector<std::uint64_t>> values;
   std::vector<std::vector<int>> peers;
+  std::vector<Call> call;
 
   void sync() {
     std::unique_lock lk(m);
@@ -43,6 +48,13 @@ struct Shared {
     }
     cv.wait(lk, [&] { return generation != gen || broken; });
     if (broken) throw GroupBroken();
+  }
+  // The first barrier of every collective: all ranks must be making the same call.
+  void enter(int rank, Call c) {
+    call[rank] = c;
+    sync();
+    for (Call other : call)
+      if (other != c) throw std::logic_error("ranks of a local group called different collectives at once");
   }
   void brake() {
     std::lock_guard lk(m);
@@ -59,6 +71,7 @@ class LocalComm final : public Comm {
 
   std::vector<Bytes> allgather(const Bytes& mine) override {
     count_collective(mine.size());
+    s_.enter(rank_, Call::kAllgather);
     s_.slot[rank_] = mine;
     s_.sync();
     std::vector<Bytes> all = s_.slot;
@@ -68,6 +81,7 @@ class LocalComm final : public Comm {
 
   void allreduce(std::vector<std::uint64_t>& v, Reduce op) override {
     count_collective(v.size() * 8);
+    s_.enter(rank_, Call::kAllreduce);
     s_.values[rank_] = v;
     s_.sync();
     for (int r = 0; r < s_.size; ++r) {
@@ -84,6 +98,7 @@ class LocalComm final : public Comm {
   std::vector<Bytes> exchange(const std::vector<Bytes>& out) override {
     const std::vector<int>& peers = s_.peers[rank_];
     count_collective(peers.size() * 4);  // the counts, as MPI_Neighbor_alltoall sends them
+    s_.enter(rank_, Call::kExchange);
     for (std::size_t k = 0; k < peers.size(); ++k) {
       s_.matrix[rank_][peers[k]] = out[k];
       if (!out[k].empty()) ++traffic_.messages, traffic_.message_bytes += out[k].size();
@@ -97,6 +112,7 @@ class LocalComm final : public Comm {
 
   std::vector<Bytes> gather(Bytes mine) override {
     if (rank_ != 0) ++traffic_.messages, traffic_.message_bytes += mine.size();
+    s_.enter(rank_, Call::kGather);
     s_.slot[rank_] = std::move(mine);
     s_.sync();
     std::vector<Bytes> all;

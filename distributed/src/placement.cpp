@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/overlap_index.hpp"
 #include "axonguide/placement.hpp"
 
@@ -18,6 +19,7 @@ using core::Vec3;
 namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+constexpr std::uint32_t kMaxWindow = 4096;  // attempts a round draws for one soma, at most
 
 // Adds the wall time of its scope to `total` (seconds).
 class Stopwatch {
@@ -67,7 +69,7 @@ class Placer {
 
   DecomposedPlacement run() {
     const bool reject = scene_.neurons.overlap_reject && n_ >= 2;
-    if (reject) check_packing(scene_);
+    if (reject) on_every_rank([&] { check_packing(scene_); });
     if (comm_.root()) out_.all.resize(n_);
     for (std::size_t a = 0; a < n_; a += id_block_) {
       base_ = a;
@@ -122,7 +124,7 @@ class Placer {
         if (!pending) settled_ = k + 1;  // final: every lower id is
         continue;
       }
-      if (!pending && s.exhausted) placement_failed(scene_, base_ + k);
+      if (!pending && s.exhausted) on_every_rank([&] { placement_failed(scene_, base_ + k); });
       pending = true;
       if (!s.exhausted) requests.push_back(static_cast<std::uint32_t>(k));
     }
@@ -146,7 +148,7 @@ class Placer {
         continue;
       }
       want[k] = 1u << std::min<std::uint32_t>(s.asks, 10);
-      if (s.asks > 0) window[k] = want[k];
+      if (s.asks > 0) window[k] = std::min(want[k], kMaxWindow);
       ++s.asks;
       active.push_back(k);
     }
@@ -198,7 +200,7 @@ class Placer {
           continue;
         }
         if (want[k] == 0) continue;
-        window[k] *= 2;
+        window[k] = std::min<std::uint32_t>(2 * window[k], kMaxWindow);
         still.push_back(k);
       }
       active.swap(still);

@@ -8,8 +8,8 @@
 #    and a kill -9 of one rank ends the job; either run resumes on another rank count to the
 #    one-process bytes;
 #  - what cannot proceed exits 2 or 3 with one message, from rank 0, and no rank hangs: too
-#    many ranks for the scene's halo, a particle field, --backend cuda, placement too dense
-#    (the folder is left as it was).
+#    many ranks for the scene's halo, a particle field, --backend emulated (the accelerator),
+#    placement too dense (the folder is left as it was), a folder that holds another run.
 # Usage: check_mpi_run.sh AXONGUIDE MPIEXEC SOURCE_DIR
 set -euo pipefail
 exe=$1

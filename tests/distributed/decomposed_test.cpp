@@ -105,7 +105,7 @@ RC_GTEST_PROP(decomposed, PlacementIsTheOneProcessPlacement, ()) {
       kept[static_cast<std::size_t>(comm.rank())] = std::move(p.somas);
       if (comm.root()) all = std::move(p.all), redraws = p.redraws;
     });
-  } catch (const RunError& e) {
+  } catch (const distributed::OnEveryRank& e) {  // thrown by every rank alike
     error = e.what();
   }
   RC_ASSERT(error == expected_error);
@@ -197,6 +197,39 @@ TEST(decomposed, DefaultSizedDirectRunOnOneTwoFourAndEightRanks) {
       EXPECT_GT(facts["per_step"]["migrated_axons"].get<double>(), 0.0) << facts.dump();
     }
   }
+}
+
+// Bounds far beyond the somas: the blocks share the somas (not the empty space), the rank's
+// soma grid stays small, and the tips that grow far out belong to the outer blocks.
+TEST(decomposed, WideBoundsKeepTheBlocksOnTheSomas) {
+  Scene s = golden_scene("direct-rejection-ball-swept");
+  s.neurons.count = 300;
+  s.neurons.radius = 4.0;
+  s.axons.bounds_radius = 1000.0;
+  s.steps = 80;
+  const auto expected = one_process(s);
+  for (int ranks : {2, 4, 8}) {
+    test::TempDir dir;
+    const nlohmann::json facts = run_decomposed(s, ranks, dir.path());
+    EXPECT_EQ(test::output_hashes(dir.path()), expected) << ranks << " ranks";
+    EXPECT_LT(facts["block_edge_lu"][0].get<double>(), 10.0) << facts.dump();
+    EXPECT_LT(facts["somas_per_rank"]["max"].get<std::uint64_t>(), 300u) << facts.dump();
+  }
+}
+
+// A rank that calls another collective than the others is an error in the local group (MPI
+// would hang), so that the properties above would catch such a path.
+TEST(decomposed, LocalGroupCatchesMismatchedCollectives) {
+  EXPECT_THROW(distributed::run_local_group(2, 1,
+                                            [](Comm& comm) {
+                                              if (comm.root()) {
+                                                comm.allgather({});
+                                              } else {
+                                                std::vector<std::uint64_t> v{1};
+                                                comm.allreduce(v, distributed::Reduce::kSum);
+                                              }
+                                            }),
+               std::logic_error);
 }
 
 TEST(decomposed, CheckpointFromSomeRanksResumesOnOthers) {

@@ -3,7 +3,6 @@
 // the decomposed placement, the decomposed engine and the agreement on checkpoints and
 // stops. Every rank calls run_scene with them; rank 0's result is the one-process result,
 // byte for byte, and the other ranks' results hold no neurons.
-#include <exception>
 #include <optional>
 #include <string>
 
@@ -12,26 +11,10 @@
 #include "axonguide/distributed/comm.hpp"
 #include "axonguide/distributed/decomposition.hpp"
 #include "axonguide/distributed/engine.hpp"
+#include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/run.hpp"
 
 namespace axg::distributed {
-
-// An error that every rank throws at the same point, decided from data all of them hold
-// (placement too dense): the ranks end together and rank 0 reports `error`.
-struct OnEveryRank : std::exception {
-  explicit OnEveryRank(std::exception_ptr e) : error(std::move(e)) {
-    try {
-      std::rethrow_exception(error);
-    } catch (const std::exception& x) {
-      message = x.what();
-    } catch (...) {
-      message = "an error on every rank";
-    }
-  }
-  const char* what() const noexcept override { return message.c_str(); }
-  std::exception_ptr error;
-  std::string message;
-};
 
 class DecomposedRun {
  public:

@@ -1,8 +1,7 @@
 #pragma once
 // Space cut into blocks, one per rank (docs/scaling.md §2.1). The domain is the cube
-// [-D, D]^3 around everything a run places or grows (the region, its populations and the
-// bounds, plus a soma radius); it is cut into P_x x P_y x P_z equal blocks, the most cubic
-// factorisation of the rank count. A point belongs to the block its coordinates fall in,
+// [-D, D]^3 around the somas (the region or its populations, plus a soma radius); it is
+// cut into P_x x P_y x P_z equal blocks, the most cubic factorisation of the rank count. A point belongs to the block its coordinates fall in,
 // clamped into the grid, so every point has exactly one owner, inside the cube or not.
 // Every rank computes the same decomposition from (scene, rank count): no message.
 #include <array>

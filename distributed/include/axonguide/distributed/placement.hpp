@@ -6,7 +6,7 @@
 //  1. Search (rounds): a window of each soma's next attempts is drawn by every rank (a
 //     cheap draw), and the rank whose block holds an attempt's position tests it against
 //     the earlier blocks' somas, which it holds within the halo of its block. An
-//     all-gather of the clear attempts found (40 bytes each) ends the round; a window that
+//     all-gather of the clear attempts found (32 bytes each) ends the round; a window that
 //     found none doubles for the next. A rejection there is one the sequential pass makes
 //     too, since earlier blocks are final.
 //  2. Scan (every rank, the same, no message): in id order, a soma takes its first known

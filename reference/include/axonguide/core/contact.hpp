@@ -50,12 +50,16 @@ AXG_HDI double max3(double a, double b) { return a > b ? a : b; }
 AXG_HDI Contact find_contact(std::uint32_t self, Vec3 a, Vec3 s, double r, double r2,
                              ContactRule rule, const CellGridView& g) {
   const Vec3 b = a + s;
-  const int x0 = cell_coord(min3(a.x, b.x) - r, g.origin.x, g.cell, g.nx);
-  const int x1 = cell_coord(max3(a.x, b.x) + r, g.origin.x, g.cell, g.nx);
-  const int y0 = cell_coord(min3(a.y, b.y) - r, g.origin.y, g.cell, g.ny);
-  const int y1 = cell_coord(max3(a.y, b.y) + r, g.origin.y, g.cell, g.ny);
-  const int z0 = cell_coord(min3(a.z, b.z) - r, g.origin.z, g.cell, g.nz);
-  const int z1 = cell_coord(max3(a.z, b.z) + r, g.origin.z, g.cell, g.nz);
+  // The cells of the segment's box widened by r, and by a margin over rounding, so that a
+  // soma in reach is visited whatever the grid's cells: the answer depends on the somas
+  // only (a decomposed run's grids are not the one-process grid).
+  const double rc = r * (1.0 + 1e-9);
+  const int x0 = cell_coord(min3(a.x, b.x) - rc, g.origin.x, g.cell, g.nx);
+  const int x1 = cell_coord(max3(a.x, b.x) + rc, g.origin.x, g.cell, g.nx);
+  const int y0 = cell_coord(min3(a.y, b.y) - rc, g.origin.y, g.cell, g.ny);
+  const int y1 = cell_coord(max3(a.y, b.y) + rc, g.origin.y, g.cell, g.ny);
+  const int z0 = cell_coord(min3(a.z, b.z) - rc, g.origin.z, g.cell, g.nz);
+  const int z1 = cell_coord(max3(a.z, b.z) + rc, g.origin.z, g.cell, g.nz);
   Contact best{2.0, kNoNeuron};
   // A soma farther than |s| + r from the start cannot be reached: most candidates are
   // rejected with one distance. (Exact: if |a - c| > |s| + r then every point of the

@@ -330,15 +330,11 @@ Job fresh_job(const RunArgs& args) {
 // twice the one-process bytes a neuron (the decomposed engine's records and halo).
 void check_run_memory(const Scene& scene, Ranks* ranks) {
   const double whole = static_cast<double>(estimate_run_bytes(scene));
-  double need = whole;
-  if (ranks) {
-    const distributed::Launch launch = distributed::detect_launch();
-    need += 2.0 * whole * launch.local_size / ranks->comm.size();
-  }
+  const int on_node = distributed::detect_launch().local_size;
+  const double need = ranks ? whole + 2.0 * whole * on_node / ranks->comm.size() : whole;
   check_memory_estimate(need >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(need),
                         fmt::format("a run of {} neurons{}", scene.neurons.count,
-                                    ranks ? fmt::format(" ({} of {} ranks on this node)",
-                                                        distributed::detect_launch().local_size, ranks->comm.size())
+                                    ranks ? fmt::format(" ({} of {} ranks on this node)", on_node, ranks->comm.size())
                                           : std::string()));
 }
 

@@ -79,8 +79,7 @@ Decomposition decompose(const Scene& scene, int ranks) {
     extent = std::max({extent, std::abs(p.center.x) + p.radius, std::abs(p.center.y) + p.radius,
                        std::abs(p.center.z) + p.radius});
   d.half = extent + nn.soma_radius;
-  d.max_step = modulates_growth(scene) ? scene.axons.step_length * (1.0 + scene.axons.growth_modulation)
-                                       : scene.axons.step_length;
+  d.max_step = max_step_length(scene);
   const double reach = d.max_step + nn.soma_radius + scene.axons.contact_distance;
   d.halo = std::max(reach, 2.0 * nn.soma_radius) * 1.001;
 

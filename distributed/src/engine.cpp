@@ -209,7 +209,7 @@ class DecomposedEngine final : public Engine {
   bool analyze(const Scene&, GraphAnalysis&) override { return !comm_.root(); }
 
   std::size_t bytes() const override {
-    return (field_ ? field_->bytes() : 0) + grid_.bytes() + grow_.capacity() + done_.capacity() * sizeof(AxonRecord);
+    return (field_ ? field_->bytes() : 0) + grid_.bytes() + grow_.bytes() + done_.capacity() * sizeof(AxonRecord);
   }
   std::string note() const override { return field_ ? field_->note() : std::string(); }
 
@@ -221,7 +221,7 @@ class DecomposedEngine final : public Engine {
     std::vector<double> length, step_length;
     std::vector<AxonStatus> status;
     std::size_t size() const { return id.size(); }
-    std::size_t capacity() const { return id.capacity() * (4 * 4 + 2 * sizeof(Vec3) + 2 * 8 + 1); }
+    std::size_t bytes() const { return id.capacity() * (4 * 4 + 2 * sizeof(Vec3) + 2 * 8 + 1); }
     void push(const AxonRecord& r) {
       slots.push_back(static_cast<std::uint32_t>(id.size()));
       id.push_back(r.id), steps.push_back(r.steps), target.push_back(r.target);

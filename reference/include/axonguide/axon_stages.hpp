@@ -50,8 +50,6 @@ class AxonStages {
   const core::GrowthParams& params() const { return params_; }
   bool modulated() const { return modulated_; }
   const std::vector<core::CueParams>& cues() const { return cues_; }
-  // The longest step any axon can take (l0, or l0 (1 + m) with modulation), LU.
-  double max_step_length() const;
 
  private:
   std::uint64_t seed_;

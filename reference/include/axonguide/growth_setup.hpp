@@ -35,6 +35,12 @@ inline core::WanderParams wander_params(const Scene& s) {
 // Growth-rate modulation gives every axon its own step length (stored per axon).
 inline bool modulates_growth(const Scene& s) { return s.axons.growth_modulation > 0.0 && s.uses_cues(); }
 
+// The longest step any axon can take, LU: l0, or l0 (1 + m) with modulation (the bound of
+// core::modulated_step); what a step's contact search can reach beyond its tip.
+inline double max_step_length(const Scene& s) {
+  return modulates_growth(s) ? s.axons.step_length * (1.0 + s.axons.growth_modulation) : s.axons.step_length;
+}
+
 inline core::Vec3 axon_start(core::Vec3 soma, core::Vec3 heading, const Scene& s) {
   return core::axon_start(soma, heading, s.neurons.soma_radius);
 }

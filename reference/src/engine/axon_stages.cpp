@@ -19,10 +19,6 @@ AxonStages::AxonStages(const Scene& scene)
       sense_(sense_params(scene)),
       steer_(steer_params(scene)) {}
 
-double AxonStages::max_step_length() const {
-  return modulated_ ? params_.step_length * (1.0 + steer_.modulation) : params_.step_length;
-}
-
 void AxonStages::steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a,
                        std::uint32_t step) const {
   const int cue_count = static_cast<int>(cues_.size());

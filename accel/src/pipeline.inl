@@ -20,10 +20,13 @@
 
 #include <algorithm>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "axonguide/cell_grid.hpp"
 #include "axonguide/core/cellgrid.hpp"
+#include "axonguide/core/estimate.hpp"
 #include "axonguide/core/growth.hpp"
 #include "axonguide/core/particles.hpp"
 #include "axonguide/core/steering.hpp"

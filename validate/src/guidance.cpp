@@ -105,6 +105,7 @@ Vec3 draw_particles(double lambda0, double b, std::uint64_t id, std::uint32_t te
   return tip;
 }
 
+#if 0
 core::SenseParams sense_for(double amount, core::ParticleSensing mode) {
   Scene s;
   s.cues.field = FieldKind::kParticles;
@@ -442,6 +443,7 @@ void decision_convergence(const Options& o, Report& r) {
          "(log-log) with a 1/n guide.");
 }
 
+#endif
 // ---- B(ii). the explant scene -----------------------------------------------------------
 
 Scene explant_scene(FieldKind field, double amount, std::uint64_t seed, core::NoiseForm noise) {
@@ -747,8 +749,6 @@ void persistence(const Options& o, Report& r) {
 
 void validate_guidance(const Options& o, Report& r) {
   with_threads(o.threads, [&] {
-    flat_field(o, r);
-    decision_convergence(o, r);
     explant(o, r);
     persistence(o, r);
   });

@@ -55,6 +55,14 @@ AXG_HDI std::uint32_t atomic_add(std::uint32_t* p, std::uint32_t v) {
 #endif
 }
 
+AXG_HDI void atomic_add(std::uint64_t* p, std::uint64_t v) {
+#if defined(__CUDA_ARCH__)
+  atomicAdd(reinterpret_cast<unsigned long long*>(p), static_cast<unsigned long long>(v));
+#else
+  *p = *p + v;
+#endif
+}
+
 // ---- Grids: hash, stable sort by key, cell starts, sorted copies. ----
 
 struct FillCellStarts {

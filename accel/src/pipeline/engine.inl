@@ -16,7 +16,11 @@ class AccelEngine final : public Engine {
         steer_(steer_params(scene)),
         particle_params_(particle_params(scene)),
         hash_(particle_hash_geometry(scene)),
-        grid_geometry_(grid_field_geometry(scene)) {
+        grid_geometry_(grid_field_geometry(scene)),
+        mesh_(estimate_geometry(scene)),
+        estimate_params_(estimate_params(scene)),
+        use_grid_(particle_grid_used(scene)),
+        use_estimate_(particle_estimate_used(scene)) {
     build_somas(placement);
     const std::size_t n = placement.soma.size();
     tip_.resize(n);
@@ -63,6 +67,7 @@ class AccelEngine final : public Engine {
     copy_out(id_, out.particle_id);
     copy_out(source_, out.particle_cue);
     out.grid.clear();
+    if (use_estimate_) copy_out(estimate_, out.grid);
     if (scene_.uses_cues() && scene_.cues.field == FieldKind::kGrid) {
       const std::size_t nodes = grid_geometry_.nodes();
       out.grid.resize(cues_host_.size() * nodes);
@@ -97,7 +102,12 @@ class AccelEngine final : public Engine {
     vel_.assign(in.particle_vel.begin(), in.particle_vel.end());
     id_.assign(in.particle_id.begin(), in.particle_id.end());
     source_.assign(in.particle_cue.begin(), in.particle_cue.end());
-    if (!in.grid.empty()) {
+    if (use_estimate_) {
+      if (in.grid.size() != estimate_.size())
+        throw std::runtime_error("checkpoint: the particle estimate has " + std::to_string(in.grid.size()) +
+                                 " values, the scene needs " + std::to_string(estimate_.size()));
+      thrust::copy(in.grid.begin(), in.grid.end(), estimate_.begin());
+    } else if (!in.grid.empty()) {
       thrust::copy(in.grid.begin(), in.grid.end(), grid_[0].begin());
       cur_.assign(cues_host_.size(), 0);
     }
@@ -246,17 +256,21 @@ class AccelEngine final : public Engine {
   }
 
   void init_field() {
-    check_grid_field(scene_, cues_host_);
+    check_cue_fields(scene_, cues_host_);
     cues_.assign(cues_host_.begin(), cues_host_.end());
     if (scene_.cues.field == FieldKind::kParticles) {
-      particle_start_.assign(hash_.buckets() + 1, 0);
+      particle_start_.assign(use_grid_ ? hash_.buckets() + 1 : 1, 0);
+      if (use_estimate_) {
+        estimate_.assign(2 * cues_host_.size() * mesh_.nodes(), 0.0);
+        deposit_.assign(estimate_.size(), 0);
+      }
     } else if (scene_.cues.field == FieldKind::kGrid) {
       const std::size_t nodes = grid_geometry_.nodes();
       grid_[0].assign(cues_host_.size() * nodes, 0.0);
       cur_.assign(cues_host_.size(), 0);
+      for (const auto& cue : cues_host_) substeps_.push_back(grid_substeps(scene_, cue));
       if (scene_.cues.grid.scheme == GridScheme::kExplicit) {
         grid_[1].assign(cues_host_.size() * nodes, 0.0);
-        for (const auto& cue : cues_host_) substeps_.push_back(explicit_substeps(cue, grid_geometry_.h, scene_.dt));
       } else {
         lod_cp_.resize(nodes);
         lod_dp_.resize(nodes);
@@ -271,6 +285,7 @@ class AccelEngine final : public Engine {
     f.cue_count = static_cast<int>(cues_host_.size());
     f.sense = sense_;
     f.particles = particle_view();
+    f.estimate = {mesh_.origin, mesh_.h, mesh_.n, mesh_.nodes(), raw(estimate_)};
     f.grids = grid_set();
     return f;
   }
@@ -334,7 +349,7 @@ class AccelEngine final : public Engine {
       ScopedPhase p(times, step, "particles.compact");
       compact_particles(ballistic);
     }
-    {
+    if (use_grid_) {
       ScopedPhase p(times, step, "particles.grid");
       build_particle_grid();
     }
@@ -342,6 +357,14 @@ class AccelEngine final : public Engine {
       ScopedPhase p(times, step, "particles.collide");
       launch(pos_.size(), Collide{particle_view(), particle_params_, ballistic, raw(pos_), raw(vel_)});
       build_particle_grid();
+    }
+    if (use_estimate_) {
+      ScopedPhase p(times, step, "particles.estimate");
+      launch(pos_.size(), DepositParticles{raw(pos_), raw(id_), raw(source_), mesh_.origin, mesh_.h, mesh_.n,
+                                           mesh_.nodes(), raw(deposit_)});
+      launch(estimate_.size(),
+             FoldEstimate{core::estimate_fold(step, estimate_params_.beta, estimate_params_.scale), raw(estimate_),
+                          raw(deposit_)});
     }
   }
 
@@ -394,13 +417,16 @@ class AccelEngine final : public Engine {
   }
 
   void implicit_step(std::size_t k, std::uint32_t step) {
-    deposit(k, step, 1.0);
+    const std::uint32_t m = substeps_[k];
     const bool reflecting = scene_.cues.grid.boundary == GridBoundary::kReflecting;
-    const core::StencilParams s = stencil_params(grid_geometry_, cues_host_[k], scene_.dt, reflecting);
+    const core::StencilParams s = stencil_params(grid_geometry_, cues_host_[k], scene_.dt / m, reflecting);
     const std::size_t lines = static_cast<std::size_t>(grid_geometry_.n) * grid_geometry_.n;
-    for (int axis = 0; axis < 3; ++axis)
-      launch(lines, LodLines{grid_values(k, 0), raw(lod_cp_), raw(lod_dp_), grid_geometry_.n, axis, s.lambda, reflecting});
-    launch(grid_geometry_.nodes(), Scale{grid_values(k, 0), 1.0 / (1.0 + s.decay_dt)});
+    for (std::uint32_t sub = 0; sub < m; ++sub) {
+      deposit(k, step, 1.0 / m);
+      for (int axis = 0; axis < 3; ++axis)
+        launch(lines, LodLines{grid_values(k, 0), raw(lod_cp_), raw(lod_dp_), grid_geometry_.n, axis, s.lambda, reflecting});
+      launch(grid_geometry_.nodes(), Scale{grid_values(k, 0), 1.0 / (1.0 + s.decay_dt)});
+    }
   }
 
   const Scene& scene_;
@@ -412,6 +438,9 @@ class AccelEngine final : public Engine {
   core::ParticleParams particle_params_;
   HashGeometry hash_;
   GridGeometry3 grid_geometry_;
+  GridGeometry3 mesh_;  // the particle estimate's meshes
+  EstimateParams estimate_params_;
+  bool use_grid_, use_estimate_;
   GridGeometry soma_geometry_;
   // Somas (sorted grid) and axons in slot order (slot k = neuron ids_[k]).
   dvec<std::uint32_t> ids_, soma_start_;
@@ -429,6 +458,8 @@ class AccelEngine final : public Engine {
   dvec<std::uint8_t> keep_;
   dvec<std::uint32_t> particle_keys_, particle_index_, particle_start_;
   dvec<double> grid_[2], lod_cp_, lod_dp_;
+  dvec<double> estimate_;              // 2 K meshes, cue-major, even half first
+  dvec<std::uint64_t> deposit_;        // this step's fixed-point deposits
   std::vector<int> cur_;
   std::vector<std::uint32_t> substeps_;
 };

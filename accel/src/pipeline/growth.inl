@@ -24,6 +24,7 @@ struct CueFields {
   int cue_count;
   core::SenseParams sense;
   core::HashGridView particles;
+  core::EstimateSet estimate;
   core::GridFieldSet grids;
 };
 
@@ -45,7 +46,8 @@ struct Steer {
     const Vec3 x = d_tip[k];
     switch (fields.kind) {
       case core::FieldKind::kParticles:
-        core::sample_particle_field(x, fields.particles, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
+        core::sample_particle_field(x, fields.particles, fields.estimate, fields.d_cues, fields.cue_count, fields.sense,
+                                    samples, pull);
         break;
       case core::FieldKind::kGrid:
         core::sample_grid_field(x, fields.grids, fields.d_cues, fields.cue_count, samples, pull);

@@ -1,5 +1,5 @@
 // The particle-field kernels: emission, motion and death, hashing, sorted copies,
-// soft-sphere collisions.
+// soft-sphere collisions, and the estimate's deposit and moving average.
 // Part of the pipeline (../pipeline.inl); compiled once per build of it.
 #pragma once
 
@@ -88,6 +88,35 @@ struct Collide {
 
 struct IsKept {
   AXG_HD bool operator()(std::uint8_t k) const { return k != 0; }
+};
+
+// One particle's fixed-point cloud-in-cell weights into the deposit of its cue and half
+// (integer atomics: the sums do not depend on the order).
+struct DepositParticles {
+  const Vec3* d_pos;
+  const std::uint64_t* d_id;
+  const std::uint16_t* d_source;
+  Vec3 origin;
+  double h;
+  int n;
+  std::size_t nodes;
+  std::uint64_t* d_deposit;
+  AXG_HD void operator()(std::size_t i) const {
+    const core::CicDeposit d = core::cic_deposit(d_pos[i], origin, h, n);
+    std::uint64_t* q = d_deposit + (2 * static_cast<std::size_t>(d_source[i]) +
+                                    static_cast<std::size_t>(core::estimate_half_of(d_id[i]))) * nodes;
+    for (int c = 0; c < 8; ++c) atomic_add(q + d.index[c], d.weight[c]);
+  }
+};
+
+struct FoldEstimate {
+  core::EstimateFold fold;
+  double* d_estimate;
+  std::uint64_t* d_deposit;
+  AXG_HD void operator()(std::size_t i) const {
+    d_estimate[i] = core::fold_node(d_estimate[i], d_deposit[i], fold);
+    d_deposit[i] = 0;
+  }
 };
 
 }  // namespace axg::accel::AXG_ACCEL_NS

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "axonguide/core/cues.hpp"
+#include "axonguide/core/estimate.hpp"
 #include "axonguide/core/particles.hpp"
 #include "axonguide/core/stencil.hpp"
 #include "axonguide/scene.hpp"
@@ -43,16 +44,34 @@ struct GridGeometry3 {
 GridGeometry3 grid_field_geometry(const Scene& scene);
 
 // Explicit sub-steps needed by cue k: ceil(dt (6 D / h^2 + k)) (at most kMaxSubsteps:
-// check_grid_field refuses scenes that need more).
+// check_cue_fields refuses scenes that need more).
 inline constexpr double kMaxSubsteps = 1e6;
 std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt);
+// Sub-steps per step of cue k's grid: cues.grid.substeps, or 1 (implicit) or the explicit
+// stability limit when it is not given (check_cue_fields refuses fewer than the limit).
+std::uint32_t grid_substeps(const Scene& scene, const core::CueParams& cue);
 
-// Scene errors of a grid field, checked before anything is allocated and for every
-// backend: more than kMaxGridNodes nodes per axis, a memory estimate above the machine's,
-// an explicit scheme that needs sub-steps the scene forbids or more than kMaxSubsteps.
-// Throws InputError (exit 2) naming the key.
+// The particle estimate's meshes (core/estimate.hpp): nodes spanning the domain's cube at
+// estimate_spacing(), and the weights of its moving average: beta = 1 - e^(-dt/tau) per
+// step (1 for tau = 0), scale 2a / (h^3 2^32) per fixed-point unit of one half.
+GridGeometry3 estimate_geometry(const Scene& scene);
+struct EstimateParams {
+  double beta;
+  double scale;
+};
+EstimateParams estimate_params(const Scene& scene);
+// Whether the particle field keeps the estimate, and whether it needs the hashed grid of
+// the particles within r (collisions, molecule-resolved counts, source_vector_sum).
+bool particle_estimate_used(const Scene& scene);
+bool particle_grid_used(const Scene& scene);
+
+// Scene errors of a grid field or of the particle estimate's meshes, checked before
+// anything is allocated and for every backend: more than kMaxGridNodes nodes per axis, a
+// memory estimate above the machine's, an explicit scheme that needs sub-steps the scene
+// forbids, more than kMaxSubsteps, or more than cues.grid.substeps gives. Throws
+// InputError (exit 2) naming the key.
 inline constexpr double kMaxGridNodes = 4096;
-void check_grid_field(const Scene& scene, const std::vector<core::CueParams>& cues);
+void check_cue_fields(const Scene& scene, const std::vector<core::CueParams>& cues);
 core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams& cue, double dt, bool reflecting);
 
 // The summary line of a grid field ("explicit grid, 109^3 nodes, h = 0.1, sub-steps per

@@ -3,6 +3,7 @@
 // optional and has a default, unknown keys are errors, values are range-checked, and a
 // bad scene raises InputError naming the key path, the value and what is allowed.
 #include <array>
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -132,11 +133,26 @@ struct Scene {
     std::uint32_t warmup_steps = 0;
     std::vector<Source> sources;
     RandomSources random_sources;
+    // m: concentration units x length^3 of one molecule, a physical quantity (the count
+    // noise form counts molecules, and molecule-resolved particles are molecules).
+    // nullopt: derived from the units, 1 nM = 0.6022 molecules per um^3, reading LU as
+    // 40 um and CU as nM where they are not declared (molecule_amount()).
+    std::optional<double> molecule_amount;
     struct Particles {
-      // Concentration units x length^3 carried by one particle. The default, with the
-      // default emission, puts tens to hundreds of particles in a sensing ball near a
-      // source (docs/methods.md §2.6: the split estimate needs them to guide).
+      // Concentration units x length^3 carried by one particle: a numerical parameter
+      // (a source's strength is emission x amount; refining the particles means a
+      // smaller amount and a larger emission).
       double amount = 0.001;
+      // Molecule-resolved: one particle is one molecule (amount = the molecule amount),
+      // and count decisions read the particles within r themselves.
+      bool molecules = false;
+      // The estimate of C and grad C that growth cones read (core/estimate.hpp):
+      // mesh spacing (length units) and the time constant of its moving average (time
+      // units; 0: this step only). nullopt: the defaults of estimate_spacing/time().
+      struct Estimate {
+        std::optional<double> spacing;
+        std::optional<double> time;
+      } estimate;
       Motion motion = Motion::kBrownian;
       bool collisions = false;
       double speed = 0.0;      // ballistic: initial speed, LU/step (0: sqrt(6 D / dt))
@@ -149,6 +165,8 @@ struct Scene {
       GridScheme scheme = GridScheme::kImplicit;
       GridBoundary boundary = GridBoundary::kAbsorbing;
       bool allow_substeps = true;  // explicit: sub-step to the stability limit, or refuse
+      // Sub-steps per step; nullopt: 1 (implicit) or the explicit scheme's stability limit.
+      std::optional<std::uint32_t> substeps;
     } grid;
     struct Imposed {
       ImposedProfile profile = ImposedProfile::kExponential;
@@ -192,6 +210,17 @@ struct Scene {
 
   // Derived quantities.
   double bounds_radius() const { return axons.bounds_radius.value_or(neurons.radius); }
+  // m, concentration units x length^3 per molecule (cues.molecule_amount or the units).
+  double molecule_amount() const;
+  double molecule_amount_from_units() const;
+  // The particle estimate's mesh spacing (length units; default: the sensing radius, at
+  // most a quarter of the domain radius) and moving-average time constant (time units;
+  // default: kEstimateSteps dt).
+  static constexpr double kEstimateSteps = 10.0;
+  double estimate_spacing() const {
+    return cues.particles.estimate.spacing.value_or(std::min(guidance.sensing_radius, 0.25 * bounds_radius()));
+  }
+  double estimate_time() const { return cues.particles.estimate.time.value_or(kEstimateSteps * dt); }
   bool uses_cues() const { return guidance.model != GuidanceModel::kDirect; }
   std::size_t source_count() const {
     return uses_cues() ? cues.sources.size() + cues.random_sources.count : 0;

@@ -83,7 +83,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   if (scene.neurons.count >= core::kNoNeuron)
     throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)",
                                  scene.neurons.count, core::kNoNeuron));
-  check_grid_field(scene, make_cues(scene));  // every backend refuses the same grids
+  check_cue_fields(scene, make_cues(scene));  // every backend refuses the same grids
   RunCheckpoint* resume = options.resume;
   if (resume && resume->scene_hash != scene_hash(scene))
     throw InputError("--resume: the checkpoint was written for another scene");

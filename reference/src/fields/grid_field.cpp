@@ -34,10 +34,8 @@ class GridField final : public CueField {
     const std::size_t nodes = geometry_.nodes();
     buffer_[0].assign(cues_.size() * nodes, 0.0);
     cur_.assign(cues_.size(), 0);
-    if (scheme_ == GridScheme::kExplicit) {
-      buffer_[1].assign(cues_.size() * nodes, 0.0);
-      for (const auto& cue : cues_) substeps_.push_back(explicit_substeps(cue, geometry_.h, dt_));
-    }
+    if (scheme_ == GridScheme::kExplicit) buffer_[1].assign(cues_.size() * nodes, 0.0);
+    for (const auto& cue : cues_) substeps_.push_back(grid_substeps(scene, cue));
   }
 
   void advance(std::uint32_t step, PhaseTimes& times) override {
@@ -109,14 +107,18 @@ class GridField final : public CueField {
     }
   }
 
-  // Source, the three LOD sweeps, then the implicit decay c / (1 + k dt).
+  // Per sub-step of dt / m: its share of the source, the three LOD sweeps, then the
+  // implicit decay c / (1 + k dt / m).
   void implicit_step(std::size_t k, std::uint32_t step) {
-    add_source(k, step, 1.0);
-    const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_, reflecting_);
-    double* c = values(k, 0);
-    lod_sweeps(c, geometry_.n, s.lambda, reflecting_);
+    const std::uint32_t m = substeps_[k];
+    const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_ / m, reflecting_);
     const double keep = 1.0 / (1.0 + s.decay_dt);
-    tbb::parallel_for(std::size_t{0}, geometry_.nodes(), [&](std::size_t i) { c[i] = c[i] * keep; });
+    double* c = values(k, 0);
+    for (std::uint32_t sub = 0; sub < m; ++sub) {
+      add_source(k, step, 1.0 / m);
+      lod_sweeps(c, geometry_.n, s.lambda, reflecting_);
+      tbb::parallel_for(std::size_t{0}, geometry_.nodes(), [&](std::size_t i) { c[i] = c[i] * keep; });
+    }
   }
 
   std::vector<core::CueParams> cues_;
@@ -153,11 +155,13 @@ std::unique_ptr<CueField> make_particle_field(const Scene& scene, const std::vec
 std::unique_ptr<CueField> make_reference_field(const Scene& scene, const std::vector<core::CueParams>& cues) {
   if (!scene.uses_cues()) return nullptr;
   switch (scene.cues.field) {
-    case FieldKind::kParticles: return make_particle_field(scene, cues);
+    case FieldKind::kParticles:
+      check_cue_fields(scene, cues);
+      return make_particle_field(scene, cues);
     case FieldKind::kAnalytic: return std::make_unique<ExactField<core::sample_analytic_field>>(scene, cues);
     case FieldKind::kImposed: return std::make_unique<ExactField<core::sample_imposed_field>>(scene, cues);
     case FieldKind::kGrid:
-      check_grid_field(scene, cues);
+      check_cue_fields(scene, cues);
       return std::make_unique<GridField>(scene, cues);
   }
   return nullptr;

@@ -1,7 +1,13 @@
 // The particle field on the CPU: emission, motion and death per particle, stable
-// compaction, the hashed grid rebuilt by a stable radix sort on (bucket, id), and the
-// optional soft-sphere collisions. Particles are kept in id order (emission appends
-// increasing ids; compaction is stable), so sorting by bucket alone sorts by (bucket, id).
+// compaction, the estimate of C and grad C that growth cones read (core/estimate.hpp:
+// fixed-point cloud-in-cell deposits and their moving average), and, where it is used,
+// the hashed grid rebuilt by a stable radix sort on (bucket, id) for the soft-sphere
+// collisions and the gathers of the particles within r. Particles are kept in id order
+// (emission appends increasing ids; compaction is stable), so sorting by bucket alone
+// sorts by (bucket, id).
+#include <stdexcept>
+#include <string>
+
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
@@ -23,8 +29,16 @@ class ParticleField final : public CueField {
         sense_(sense_params(scene)),
         params_(particle_params(scene)),
         geometry_(particle_hash_geometry(scene)),
-        ballistic_(scene.cues.particles.motion == Motion::kBallistic) {
-    cell_start_.assign(geometry_.buckets() + 1, 0);
+        ballistic_(scene.cues.particles.motion == Motion::kBallistic),
+        use_grid_(particle_grid_used(scene)),
+        use_estimate_(particle_estimate_used(scene)),
+        mesh_(estimate_geometry(scene)),
+        estimate_params_(estimate_params(scene)) {
+    cell_start_.assign(use_grid_ ? geometry_.buckets() + 1 : 1, 0);
+    if (use_estimate_) {
+      estimate_.assign(2 * cues_.size() * mesh_.nodes(), 0.0);
+      deposit_.assign(estimate_.size(), 0);
+    }
   }
 
   void advance(std::uint32_t step, PhaseTimes& times) override {
@@ -40,7 +54,7 @@ class ParticleField final : public CueField {
       ScopedPhase p(times, step, "particles.compact");
       compact();
     }
-    {
+    if (use_grid_) {
       ScopedPhase p(times, step, "particles.grid");
       build_grid();
     }
@@ -49,10 +63,16 @@ class ParticleField final : public CueField {
       collide();
       build_grid();
     }
+    if (use_estimate_) {
+      ScopedPhase p(times, step, "particles.estimate");
+      deposit();
+      fold(step);
+    }
   }
 
   void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
-    core::sample_particle_field(x, view(), cues_.data(), static_cast<int>(cues_.size()), sense_, samples, pull);
+    core::sample_particle_field(x, view(), estimate_set(), cues_.data(), static_cast<int>(cues_.size()), sense_, samples,
+                                pull);
   }
 
   std::uint64_t particles() const override { return pos_.size(); }
@@ -68,27 +88,70 @@ class ParticleField final : public CueField {
     out.particle_vel = vel_;
     out.particle_id = id_;
     out.particle_cue = source_;
+    out.grid = estimate_;
   }
 
-  // The hashed grid is rebuilt by the next step's advance, before anything reads it.
+  // The hashed grid is rebuilt by the next step's advance, before anything reads it; the
+  // estimate continues from its saved average (the deposits are per-step scratch).
   void load(const EngineState& in) override {
     next_id_ = in.next_particle_id;
     pos_ = in.particle_pos;
     vel_ = in.particle_vel;
     id_ = in.particle_id;
     source_ = in.particle_cue;
+    if (use_estimate_) {
+      if (in.grid.size() != estimate_.size())
+        throw std::runtime_error("checkpoint: the particle estimate has " + std::to_string(in.grid.size()) +
+                                 " values, the scene needs " + std::to_string(estimate_.size()));
+      estimate_ = in.grid;
+    }
   }
 
   std::size_t bytes() const override {
     return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
            keep_.capacity() + keys_.capacity() * 4 + index_.capacity() * 4 + sorted_pos_.capacity() * 24 +
-           sorted_source_.capacity() * 2 + cell_start_.capacity() * 4;
+           sorted_source_.capacity() * 2 + cell_start_.capacity() * 4 + estimate_.capacity() * 8 +
+           deposit_.capacity() * 8;
   }
 
  private:
   core::HashGridView view() const {
     return {geometry_.origin, geometry_.cell, geometry_.dim, cell_start_.data(), index_.data(),
             sorted_pos_.data(), sorted_source_.data()};
+  }
+
+  core::EstimateSet estimate_set() const {
+    return {mesh_.origin, mesh_.h, mesh_.n, mesh_.nodes(), estimate_.data()};
+  }
+
+  // Every particle's cloud-in-cell weights into the deposit of its cue and half: one task
+  // per (cue, half), each over the particles in id order (integer sums: any order gives
+  // the same bytes).
+  void deposit() {
+    const std::size_t nodes = mesh_.nodes();
+    const auto meshes = static_cast<int>(2 * cues_.size());
+    tbb::parallel_for(0, meshes, [&](int m) {
+      const auto cue = static_cast<std::uint16_t>(m / 2);
+      const int half = m % 2;
+      std::uint64_t* q = deposit_.data() + static_cast<std::size_t>(m) * nodes;
+      for (std::size_t i = 0; i < pos_.size(); ++i) {
+        if (source_[i] != cue || core::estimate_half_of(id_[i]) != half) continue;
+        const core::CicDeposit d = core::cic_deposit(pos_[i], mesh_.origin, mesh_.h, mesh_.n);
+        for (int c = 0; c < 8; ++c) q[d.index[c]] += d.weight[c];
+      }
+    });
+  }
+
+  // The moving average of field step `step` (1-based, warm-up included).
+  void fold(std::uint32_t step) {
+    const core::EstimateFold f = core::estimate_fold(step, estimate_params_.beta, estimate_params_.scale);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, estimate_.size(), 16384),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          estimate_[i] = core::fold_node(estimate_[i], deposit_[i], f);
+                          deposit_[i] = 0;
+                        }
+                      });
   }
 
   // Each cue emits floor(step Q) - floor((step-1) Q) particles at its position; ids are
@@ -166,6 +229,10 @@ class ParticleField final : public CueField {
   core::ParticleParams params_;
   HashGeometry geometry_;
   bool ballistic_;
+  bool use_grid_;      // the hashed grid: collisions and the gathers of the particles within r
+  bool use_estimate_;  // the estimate meshes
+  GridGeometry3 mesh_;
+  EstimateParams estimate_params_;
   std::uint64_t next_id_ = 0;
   // State, in id order.
   std::vector<core::Vec3> pos_, vel_;
@@ -181,6 +248,9 @@ class ParticleField final : public CueField {
   std::vector<std::uint32_t> keys_, index_, cell_start_;
   std::vector<core::Vec3> sorted_pos_;
   std::vector<std::uint16_t> sorted_source_;
+  // Estimate: 2 K meshes (cue-major, even half first) of averages and of this step's deposits.
+  std::vector<double> estimate_;
+  std::vector<std::uint64_t> deposit_;
 };
 
 }  // namespace

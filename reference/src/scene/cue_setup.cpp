@@ -90,23 +90,22 @@ core::SenseParams sense_params(const Scene& scene) {
   core::SenseParams p{};
   const double r = scene.guidance.sensing_radius;
   const double volume = 4.0 / 3.0 * 3.141592653589793 * r * r * r;
+  const double m = scene.molecule_amount();
   p.field = scene.cues.field;
-  p.sensing = scene.guidance.noise == NoiseForm::kCount ? core::ParticleSensing::kCount : core::ParticleSensing::kSplit;
-  p.amount = scene.cues.particles.amount;
+  if (scene.guidance.model == GuidanceModel::kSourceVectorSum) p.sensing = core::ParticleSensing::kGather;
+  else if (scene.cues.particles.molecules && scene.guidance.model == GuidanceModel::kSnr &&
+           scene.guidance.noise == NoiseForm::kCount)
+    p.sensing = core::ParticleSensing::kMolecules;
+  else p.sensing = core::ParticleSensing::kEstimate;
   p.radius = r;
   p.radius2 = r * r;
   p.inv_radius = 1.0 / r;
-  p.c_per_particle = p.amount / volume;
-  p.half_grad_scale = 10.0 * p.amount / (volume * r * r);
-  p.count_mean_scale = volume * r / (5.0 * p.amount);
-  p.count_var_scale = volume / (5.0 * p.amount);
+  p.molecule = m;
+  p.c_per_particle = scene.cues.particles.amount / volume;
+  p.count_mean_scale = volume * r / (5.0 * m);
+  p.count_var_scale = volume / (5.0 * m);
   p.cone_width = scene.guidance.growth_cone_width;
   p.analytic_rmin = 1e-3;
-  switch (scene.guidance.model) {
-    case GuidanceModel::kVectorSum: p.pull = core::Pull::kSensed; break;
-    case GuidanceModel::kSourceVectorSum: p.pull = core::Pull::kSource; break;
-    default: p.pull = core::Pull::kNone; break;
-  }
   const auto& q = scene.cues.imposed;
   p.imposed.profile = q.profile;
   p.imposed.direction = core::normalized(q.direction);
@@ -166,7 +165,7 @@ GridGeometry3 grid_field_geometry(const Scene& scene) {
   GridGeometry3 g;
   g.h = scene.cues.grid.spacing;
   const double half = scene.bounds_radius();
-  // Clamped for the conversion; check_grid_field refuses grids this large.
+  // Clamped for the conversion; check_cue_fields refuses grids this large.
   g.n = static_cast<int>(std::min(std::ceil(2.0 * half / g.h) + 1.0, kMaxGridNodes + 1.0));
   const double o = -0.5 * (g.n - 1) * g.h;
   g.origin = {o, o, o};
@@ -178,7 +177,60 @@ std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt)
   return static_cast<std::uint32_t>(std::clamp(std::ceil(need), 1.0, kMaxSubsteps));
 }
 
-void check_grid_field(const Scene& scene, const std::vector<core::CueParams>& cues) {
+std::uint32_t grid_substeps(const Scene& scene, const core::CueParams& cue) {
+  if (scene.cues.grid.substeps) return *scene.cues.grid.substeps;
+  if (scene.cues.grid.scheme == GridScheme::kImplicit) return 1;
+  return explicit_substeps(cue, scene.cues.grid.spacing, scene.dt);
+}
+
+GridGeometry3 estimate_geometry(const Scene& scene) {
+  GridGeometry3 g;
+  g.h = scene.estimate_spacing();
+  const double half = scene.bounds_radius();
+  g.n = static_cast<int>(std::min(std::ceil(2.0 * half / g.h) + 1.0, kMaxGridNodes + 1.0));
+  const double o = -0.5 * (g.n - 1) * g.h;
+  g.origin = {o, o, o};
+  return g;
+}
+
+EstimateParams estimate_params(const Scene& scene) {
+  const double tau = scene.estimate_time();
+  const double h = estimate_geometry(scene).h;
+  EstimateParams p;
+  p.beta = tau > 0.0 ? 1.0 - core::pm::exp(-scene.dt / tau) : 1.0;
+  if (!(p.beta > 0.0)) p.beta = 1.0 / 4294967296.0;  // tau beyond any run: the weights stay positive
+  p.scale = 2.0 * scene.cues.particles.amount / (h * h * h * core::kDepositUnit);
+  return p;
+}
+
+bool particle_estimate_used(const Scene& scene) {
+  return scene.uses_cues() && scene.cues.field == FieldKind::kParticles &&
+         sense_params(scene).sensing == core::ParticleSensing::kEstimate;
+}
+
+bool particle_grid_used(const Scene& scene) {
+  return scene.uses_cues() && scene.cues.field == FieldKind::kParticles &&
+         (scene.cues.particles.collisions || sense_params(scene).sensing != core::ParticleSensing::kEstimate);
+}
+
+void check_cue_fields(const Scene& scene, const std::vector<core::CueParams>& cues) {
+  if (particle_estimate_used(scene)) {
+    const double half = scene.bounds_radius(), h = scene.estimate_spacing();
+    const double n = std::ceil(2.0 * half / h) + 1.0;
+    if (n > kMaxGridNodes)
+      throw InputError(fmt::format(
+          "scene: cues.particles.estimate.spacing = {}: {:.3g} nodes per axis over the domain of half-width {}; at most "
+          "{} are allowed",
+          h, n, half, kMaxGridNodes));
+    const std::uint64_t bytes = estimate_cue_bytes(scene);
+    const std::uint64_t have = physical_memory_bytes();
+    if (have != 0 && bytes > have)
+      throw InputError(fmt::format(
+          "scene: cues.particles.estimate.spacing = {}: the particles and {} estimate meshes of {}^3 nodes need an "
+          "estimated {}, above this machine's {}; use a coarser spacing",
+          h, 2 * cues.size(), static_cast<int>(n), human_bytes(static_cast<double>(bytes)),
+          human_bytes(static_cast<double>(have))));
+  }
   if (!scene.uses_cues() || scene.cues.field != FieldKind::kGrid) return;
   const double half = scene.bounds_radius(), h = scene.cues.grid.spacing;
   const double n = std::ceil(2.0 * half / h) + 1.0;
@@ -201,6 +253,11 @@ void check_grid_field(const Scene& scene, const std::vector<core::CueParams>& cu
           "scene: cues.grid.scheme = \"explicit\": cue {} needs {:.3g} sub-steps per step (dt (6 D / h^2 + k) = {:.3g}), "
           "more than {:.0g}; use the \"implicit\" scheme or a coarser cues.grid.spacing",
           k, std::ceil(need), need, kMaxSubsteps));
+    if (scene.cues.grid.substeps && *scene.cues.grid.substeps < explicit_substeps(cues[k], h, scene.dt))
+      throw InputError(fmt::format(
+          "scene: cues.grid.substeps = {}: the explicit scheme needs at least {} sub-steps per step for cue {} "
+          "(dt (6 D / h^2 + k) = {:.4g}, the stability limit); give at least that, null, or the \"implicit\" scheme",
+          *scene.cues.grid.substeps, explicit_substeps(cues[k], h, scene.dt), k, need));
     if (need > 1.0 && !scene.cues.grid.allow_substeps)
       throw InputError(fmt::format(
           "scene: cues.grid.allow_substeps = false, but the explicit scheme needs {} sub-steps per step for cue {}: "
@@ -222,10 +279,11 @@ core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams
 std::string grid_field_note(const Scene& scene, const std::vector<core::CueParams>& cues) {
   if (!scene.uses_cues() || scene.cues.field != FieldKind::kGrid) return {};
   const GridGeometry3 g = grid_field_geometry(scene);
-  if (scene.cues.grid.scheme == GridScheme::kImplicit)
-    return fmt::format("implicit LOD grid, {}^3 nodes, h = {}", g.n, g.h);
   std::uint32_t worst = 1;
-  for (const auto& c : cues) worst = std::max(worst, explicit_substeps(c, g.h, scene.dt));
+  for (const auto& c : cues) worst = std::max(worst, grid_substeps(scene, c));
+  if (scene.cues.grid.scheme == GridScheme::kImplicit)
+    return worst == 1 ? fmt::format("implicit LOD grid, {}^3 nodes, h = {}", g.n, g.h)
+                      : fmt::format("implicit LOD grid, {}^3 nodes, h = {}, sub-steps per step: {}", g.n, g.h, worst);
   return fmt::format("explicit grid, {}^3 nodes, h = {}, sub-steps per step: {}", g.n, g.h, worst);
 }
 
@@ -255,7 +313,9 @@ std::uint64_t estimate_cue_bytes(const Scene& scene) {
       // state (position, velocity, id, source, flags) and grid (keys, index, sorted copies)
       const double per = 24 + 24 + 8 + 2 + 4 + 4 * 4 + 24 + 2;
       const HashGeometry h = particle_hash_geometry(scene);
-      const double b = expected_particles(scene) * per * 2 + static_cast<double>(h.buckets()) * 4.0;
+      // The estimate: per cue two halves of n^3 nodes, a double and a 64-bit deposit each.
+      const double mesh = particle_estimate_used(scene) ? cues * 2.0 * static_cast<double>(estimate_geometry(scene).nodes()) * 16.0 : 0.0;
+      const double b = expected_particles(scene) * per * 2 + static_cast<double>(h.buckets()) * 4.0 + mesh;
       return b >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(b);
     }
   }

@@ -329,6 +329,7 @@ void read_scene(const json& root, Scene& s) {
   if (const json* j = top.take("cues")) {
     ObjectReader r(*j, "cues");
     auto& c = s.cues;
+    bool amount_given = false;
     r.choice("field", c.field, {{"particles", FieldKind::kParticles}, {"grid", FieldKind::kGrid},
                                 {"analytic", FieldKind::kAnalytic}, {"imposed", FieldKind::kImposed}});
     r.integer("warmup_steps", c.warmup_steps, 0, 1000000);
@@ -346,10 +347,19 @@ void read_scene(const json& root, Scene& s) {
       read_source_common(rr, q.emission, q.diffusion, q.decay, q.kd);
       rr.finish();
     }
+    r.optional_number("molecule_amount", c.molecule_amount, positive());
     if (const json* p = r.take("particles")) {
       ObjectReader rr(*p, "cues.particles");
       auto& q = c.particles;
+      amount_given = rr.take("amount") != nullptr;
       rr.number("amount", q.amount, positive());
+      rr.boolean("molecules", q.molecules);
+      if (const json* e = rr.take("estimate")) {
+        ObjectReader er(*e, "cues.particles.estimate");
+        er.optional_number("spacing", q.estimate.spacing, positive());
+        er.optional_number("time", q.estimate.time, non_negative());
+        er.finish();
+      }
       rr.choice("motion", q.motion, {{"brownian", Motion::kBrownian}, {"ballistic", Motion::kBallistic}});
       rr.boolean("collisions", q.collisions);
       rr.number("speed", q.speed, non_negative());
@@ -366,7 +376,25 @@ void read_scene(const json& root, Scene& s) {
       rr.choice("boundary", q.boundary, {{"absorbing", GridBoundary::kAbsorbing},
                                          {"reflecting", GridBoundary::kReflecting}});
       rr.boolean("allow_substeps", q.allow_substeps);
+      if (const json* m = rr.take("substeps")) {
+        if (m->is_null()) q.substeps.reset();
+        else q.substeps = static_cast<std::uint32_t>(ObjectReader::read_integer(*m, rr.path("substeps"), 1, 1000000));
+      }
       rr.finish();
+    }
+    if (c.molecule_amount && s.units.length == "um" && s.units.concentration != "CU")
+      throw InputError(fmt::format(
+          "scene: cues.molecule_amount = {}: the scene declares physical units ({}), which fix one molecule at {:.6g} "
+          "{} um^3; remove the key (it is for scenes without physical length or concentration units)",
+          *c.molecule_amount, s.units.describe(), s.molecule_amount_from_units(), s.units.concentration));
+    if (c.particles.molecules) {
+      const double m = s.molecule_amount();
+      if (amount_given && c.particles.amount != m)
+        throw InputError(fmt::format(
+            "scene: cues.particles.amount = {} with cues.particles.molecules = true: a molecule-resolved particle is "
+            "one molecule, {:.6g} (concentration x length^3 in this scene's units); remove the amount or make it equal",
+            c.particles.amount, m));
+      c.particles.amount = m;
     }
     if (const json* g = r.take("imposed")) {
       ObjectReader rr(*g, "cues.imposed");
@@ -480,6 +508,15 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
           k, p->x, p->y, p->z, n.shape == RegionShape::kBox ? "box" : "ball",
           n.shape == RegionShape::kBox ? "half-edge" : "radius", rb));
   }
+  if (s.cues.field == FieldKind::kParticles && s.estimate_spacing() >= rb)
+    throw InputError(fmt::format(
+        "scene: cues.particles.estimate.spacing = {}: must be below the domain radius {} (the estimate's mesh needs "
+        "cells)",
+        s.estimate_spacing(), rb));
+  if (s.cues.particles.molecules && s.cues.field != FieldKind::kParticles)
+    warnings.push_back(fmt::format("cues.particles.molecules is true but cues.field is \"{}\": it applies to the "
+                                   "particle field only and is ignored",
+                                   name_of(s.cues.field)));
   if (s.cues.field == FieldKind::kGrid && s.cues.grid.spacing >= rb)
     throw InputError(fmt::format(
         "scene: cues.grid.spacing = {}: must be below the domain radius {} (the grid needs cells)",
@@ -602,6 +639,16 @@ const char* name_of(NoiseForm v) {
 }
 const char* name_of(ImposedProfile v) { return v == ImposedProfile::kLinear ? "linear" : "exponential"; }
 
+double Scene::molecule_amount() const { return cues.molecule_amount ? *cues.molecule_amount : molecule_amount_from_units(); }
+
+double Scene::molecule_amount_from_units() const {
+  // One molecule is 1 / 0.602214076 nM um^3 (1 nM = 6.02214076e14 per litre, a litre
+  // 10^15 um^3); in the scene's units, with CU read as nM and LU as kMicrometresPerLu um.
+  const double nm_per_unit = units.concentration == "pM" ? 1e-3 : (units.concentration == "uM" ? 1e3 : 1.0);
+  const double um = units.micrometres();
+  return 1.0 / 0.602214076 / nm_per_unit / (um * um * um);
+}
+
 std::string Units::describe() const {
   return fmt::format("length {}, time {}, concentration {}", length, time, concentration);
 }
@@ -699,6 +746,11 @@ json scene_to_json(const Scene& s) {
   if (s.output.sonata) j["output"]["sonata"] = true;
   if (s.output.graphml) j["output"]["graphml"] = *s.output.graphml;
   if (s.output.conduction_speed) j["output"]["conduction_speed"] = *s.output.conduction_speed;
+  if (c.molecule_amount) j["cues"]["molecule_amount"] = *c.molecule_amount;
+  if (c.particles.molecules) j["cues"]["particles"]["molecules"] = true;
+  if (c.particles.estimate.spacing) j["cues"]["particles"]["estimate"]["spacing"] = *c.particles.estimate.spacing;
+  if (c.particles.estimate.time) j["cues"]["particles"]["estimate"]["time"] = *c.particles.estimate.time;
+  if (c.grid.substeps) j["cues"]["grid"]["substeps"] = *c.grid.substeps;
   return j;
 }
 

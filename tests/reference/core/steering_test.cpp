@@ -195,11 +195,14 @@ TEST(steering, RepellentMirrorsAttractant) {
   }
 }
 
-// The count decision turns toward the perpendicular count dipole, with no noise added.
+// Molecule-resolved: the count decision turns toward the perpendicular count dipole of the
+// particles (the molecules), with no noise added.
 TEST(steering, CountDecisionTurnsTowardTheDipole) {
   SteerParams p = snr_params();
   p.noise = NoiseForm::kCount;
   SenseParams sp = sense();
+  sp.field = FieldKind::kParticles;
+  sp.sensing = ParticleSensing::kMolecules;
   sp.c_per_particle = 0.01;
   const CueParams cue = cue_of(1);
   const CueSample s{0.5, {3, 0, 7}, {3, 0, 7}};
@@ -212,15 +215,16 @@ TEST(steering, CountDecisionTurnsTowardTheDipole) {
   }
 }
 
-// The count form on an exact field draws the count dipole in its Gaussian limit, so the
-// turn goes to the +x side with probability Phi(SNR_count) exactly.
+// The count form on an exact field draws the molecules' count dipole in its Gaussian
+// limit, so the turn goes to the +x side with probability Phi(SNR_count) exactly, with the
+// molecule amount m.
 TEST(steering, ExactFieldCountDecisionIsPhiOfSnrCount) {
   SteerParams p = snr_params();
   p.noise = NoiseForm::kCount;
   SenseParams sp = sense();
   sp.field = FieldKind::kAnalytic;
   const double a = 0.001, r = 0.5, volume = 4.0 / 3.0 * 3.141592653589793 * r * r * r;
-  sp.amount = a;
+  sp.molecule = a;
   sp.radius = r;
   sp.count_mean_scale = volume * r / (5.0 * a);
   sp.count_var_scale = volume / (5.0 * a);

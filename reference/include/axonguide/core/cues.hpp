@@ -27,15 +27,16 @@ struct CueParams {
   double analytic_scale;  // a Q / (dt 4 pi D): steady-state prefactor, concentration x LU
 };
 
-// What the growth cone derives from one cue at one point. For grid, analytic and imposed
-// fields grad and grad_check are both the exact gradient. For the particle field (§2.6):
-//   split: c = a n / V from all n particles within r; grad from the particles of even
-//          slot, grad_check from those of odd slot (two independent halves);
-//   count: c as above; grad = the count dipole sum_j (x_j - x) / r (particles, not
-//          concentration units); grad_check unused.
+// What the growth cone derives from one cue at one point: the field's estimate of C and
+// grad C. For grid, analytic and imposed fields grad and grad_check are both the field's
+// gradient. For the particle field's estimate (estimate.hpp) they come from two
+// independent halves of the particles: steering takes the direction from grad and the
+// magnitude along it from grad_check. Molecule-resolved count sensing (particles.hpp):
+// c = a n / V of the n particles within r, grad = grad_check = their count dipole
+// sum_j (x_j - x) / r (particles, not concentration units).
 struct CueSample {
   double c;         // concentration units
-  Vec3 grad;        // concentration units per length unit (count: particles)
+  Vec3 grad;        // concentration units per length unit (molecule-resolved count: particles)
   Vec3 grad_check;  // concentration units per length unit
 };
 
@@ -55,17 +56,15 @@ struct ImposedParams {
 struct SenseParams {
   FieldKind field;
   ParticleSensing sensing;
-  double amount;          // a: concentration x length^3 carried by one particle
   double radius;          // r: sensing radius, length units
   double radius2;         // r^2
   double inv_radius;      // 1/r
-  double c_per_particle;  // a / V, V = 4 pi r^3 / 3
-  double half_grad_scale; // 10 a / (V r^2): the gradient estimate of one half-sample
-  double count_mean_scale;// V r / (5 a): mean count dipole per unit gradient (count noise, exact fields)
-  double count_var_scale; // V / (5 a): count-dipole variance per axis per unit concentration
+  double molecule;        // m: concentration x length^3 of one molecule (physical)
+  double c_per_particle;  // a / V, V = 4 pi r^3 / 3 (molecule-resolved sensing: a = m)
+  double count_mean_scale;// V r / (5 m): mean count dipole of the molecules per unit gradient
+  double count_var_scale; // V / (5 m): its variance per axis per unit concentration
   double cone_width;      // w: growth-cone width, length units
   double analytic_rmin;   // length units: the analytic field is evaluated at max(r, rmin)
-  Pull pull;              // which pulls the particle gather sums (vector models)
   ImposedParams imposed;
 };
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "cues.hpp"
+#include "estimate.hpp"
 #include "hd.hpp"
 #include "random.hpp"
 #include "sampler.hpp"
@@ -127,27 +128,22 @@ AXG_HDI Vec3 collision_push(std::uint32_t self, Vec3 x, const HashGridView& g, c
   return push;
 }
 
-// The sensing gather at x (SPEC §3.4, docs/methods.md §2.6): for every cue, over its n
-// particles within r, C = a n / V and
-//   split: grad from the particles of even slot, grad_check from those of odd slot, each
-//          10 a / (V r^2) sum(x_j - x) (for a linear field the mean of y.g over a ball of
-//          radius r is |g| r^2 / 5, and each half carries half the density). The halves
-//          are independent, so grad_check.u is an unbiased estimate of the gradient along
-//          any direction u chosen from grad, and in a flat field its sign is a fair coin;
-//   count: grad = sum_j (x_j - x) / r, the count dipole.
-// Pulls (vector models): `sensed` sums unit vectors from x toward each particle within r;
-// `source` sums unit vectors from each particle toward its source (the report's rule).
-// Order: buckets z, y, x, then particle id, identical on every backend.
+// The particles within r of x, for molecule-resolved count sensing and the report's
+// source_vector_sum (SPEC §3.4, docs/methods.md §2.6): for every cue, over its n particles
+// within r, C = a n / V and the count dipole sum_j (x_j - x) / r (grad = grad_check); the
+// pull sums unit vectors from each particle toward its source (the report's rule, which
+// needs knowledge no growth cone has). Order: buckets z, y, x, then particle id, identical
+// on every backend.
 AXG_HDI void particle_gather(Vec3 x, const HashGridView& g, const CueParams* cues, int cue_count,
-                             const SenseParams& p, Pull want, CueSample* samples, Vec3* pull) {
+                             const SenseParams& p, CueSample* samples, Vec3* pull) {
   double count[kMaxCues];
-  Vec3 even[kMaxCues], odd[kMaxCues];
+  Vec3 dipole[kMaxCues];
   for (int k = 0; k < cue_count; ++k) {
     count[k] = 0.0;
-    even[k] = {0.0, 0.0, 0.0};
-    odd[k] = {0.0, 0.0, 0.0};
+    dipole[k] = {0.0, 0.0, 0.0};
     pull[k] = {0.0, 0.0, 0.0};
   }
+  const bool source_pulls = p.sensing == ParticleSensing::kGather;
   const int cx = hash_coord(x.x, g.origin.x, g.cell), cy = hash_coord(x.y, g.origin.y, g.cell),
             cz = hash_coord(x.z, g.origin.z, g.cell);
   for (int dz = -1; dz <= 1; ++dz)
@@ -160,11 +156,8 @@ AXG_HDI void particle_gather(Vec3 x, const HashGridView& g, const CueParams* cue
           if (d2 > p.radius2) continue;
           const int c = g.source[k];
           count[c] += 1.0;
-          if (g.index[k] & 1u) odd[c] += d;
-          else even[c] += d;
-          if (want == Pull::kSensed) {
-            if (d2 > 0.0) pull[c] += d / std::sqrt(d2);
-          } else if (want == Pull::kSource) {
+          dipole[c] += d;
+          if (source_pulls) {
             const Vec3 to_source = cues[c].position - g.pos[k];
             const double n = norm(to_source);
             if (n > 0.0) pull[c] += to_source / n;
@@ -172,21 +165,26 @@ AXG_HDI void particle_gather(Vec3 x, const HashGridView& g, const CueParams* cue
         }
       }
   for (int k = 0; k < cue_count; ++k) {
-    const double c = p.c_per_particle * count[k];
-    if (p.sensing == ParticleSensing::kCount) {
-      const Vec3 dipole = p.inv_radius * (even[k] + odd[k]);
-      samples[k] = {c, dipole, dipole};
-    } else {
-      samples[k] = {c, p.half_grad_scale * even[k], p.half_grad_scale * odd[k]};
-    }
+    const Vec3 dip = p.inv_radius * dipole[k];
+    samples[k] = {p.c_per_particle * count[k], dip, dip};
     pull[k] = cues[k].sign * pull[k];
   }
 }
 
-// Every cue's sample and signed pull from the particle field.
-AXG_HDI void sample_particle_field(Vec3 x, const HashGridView& g, const CueParams* cues, int cue_count,
-                                   const SenseParams& p, CueSample* samples, Vec3* pull) {
-  particle_gather(x, g, cues, cue_count, p, p.pull, samples, pull);
+// Every cue's sample and signed pull from the particle field: the estimate (its vector_sum
+// pull is the signed unit vector of the estimated gradient, as for the exact fields), or
+// the particles within r (molecule-resolved counts, source_vector_sum).
+AXG_HDI void sample_particle_field(Vec3 x, const HashGridView& g, const EstimateSet& e, const CueParams* cues,
+                                   int cue_count, const SenseParams& p, CueSample* samples, Vec3* pull) {
+  if (p.sensing != ParticleSensing::kEstimate) {
+    particle_gather(x, g, cues, cue_count, p, samples, pull);
+    return;
+  }
+  for (int k = 0; k < cue_count; ++k) {
+    samples[k] = estimate_sample(x, e, k);
+    const CueSample both{samples[k].c, samples[k].grad + samples[k].grad_check, samples[k].grad};
+    pull[k] = signed_unit_gradient(both, cues[k].sign);
+  }
 }
 
 }  // namespace axg::core

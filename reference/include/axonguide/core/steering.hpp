@@ -4,8 +4,8 @@
 // `snr` (Mortimer et al. 2009-2011). Every detected cue k contributes the evidence vector
 //   e_k = sign_k alpha (w m_k / C_k) f(gamma_k) u_k,
 // where u_k is the unit component of its gradient perpendicular to the heading h, m_k the
-// gradient's component along u_k (|grad_perp| for an exact field; from the independent
-// half-sample for the split particle estimate), and f the receptor-noise form. For one
+// gradient's component along u_k (|grad_perp| for an exact field; from the other half of
+// the particle estimate, estimate.hpp), and f the receptor-noise form. For one
 // cue |e_k| = alpha mu f(gamma) sin psi, the report's SNR. The evidence combines as
 // E = sum_k e_k (in the canonical cue order): with von Mises likelihoods for the
 // direction, the log-likelihoods of independent cues add, so the combined posterior
@@ -15,8 +15,8 @@
 // makes no cue turn; with |E| ~ 0 the side is a random perpendicular.
 //
 // `snr` with the count noise form: the heading turns toward the perpendicular part of
-// the signed count dipole of the particles within r (count_steer); no noise is added
-// to the count noise.
+// the signed count dipole of the molecules within r (count_steer), whose Poisson noise is
+// the only noise.
 //
 // `vector_sum` / `source_vector_sum`: h <- normalise(h + beta sum_k pull_k).
 #include <cmath>
@@ -55,14 +55,26 @@ AXG_HDI double receptor_noise(double gamma, NoiseForm form) {
 // Below this |E| the evidence has no side: a random perpendicular is used.
 inline constexpr double kParallelSin = 1e-12;
 
-// The SNR a counting growth cone has in an exact field: the dipole component
-// D.u = sum_j (x_j - x).u / r of Poisson particles of intensity C/a in the ball of radius r
-// has mean |grad_perp| V r / (5 a) and variance C V / (5 a), so
-//   SNR_count = |grad_perp| r sqrt(V / (5 a C)).
-// The validation compares the count decision with Phi(SNR_count).
-AXG_HDI double snr_count(double c, double grad_perp, double amount, double radius) {
+// The SNR of a counting growth cone: the dipole component D.u = sum_j (x_j - x).u / r of
+// Poisson molecules of intensity C/m in the ball of radius r has mean |grad_perp| V r / (5 m)
+// and variance C V / (5 m), so
+//   SNR_count = |grad_perp| r sqrt(V / (5 m C)),
+// with m the amount of one molecule: a physical quantity, not the simulation's particle
+// amount. The validation compares the count decision with Phi(SNR_count).
+AXG_HDI double snr_count(double c, double grad_perp, double molecule, double radius) {
   const double volume = 4.0 / 3.0 * 3.141592653589793 * radius * radius * radius;
-  return grad_perp * radius * std::sqrt(volume / (5.0 * amount * c));
+  return grad_perp * radius * std::sqrt(volume / (5.0 * molecule * c));
+}
+
+// The gradient a decision takes from a sample: the component of grad_check along the
+// direction of grad, (grad_check . u) u with u = grad / |grad|. For exact fields it is the
+// gradient; for the particle estimate its magnitude comes from the half that did not choose
+// the direction, so in a flat field it is symmetric about zero and adds no direction.
+AXG_HDI Vec3 decision_gradient(const CueSample& s) {
+  const double n = norm(s.grad);
+  if (!(n > 0.0 && n < HUGE_VAL)) return {0.0, 0.0, 0.0};
+  const Vec3 u = s.grad / n;
+  return dot(s.grad_check, u) * u;
 }
 
 struct Steered {
@@ -77,32 +89,34 @@ AXG_HDI Vec3 turn(Vec3 h, Vec3 u, bool toward, const SteerParams& p) {
 }
 
 // The count decision (noise form kCount). The growth cone counts every detected cue's
-// particles within r and turns toward the perpendicular part of the signed dipole
-// D = sum_k sign_k sum_j (x_j - x) / r; nothing is added to the count noise. For an
-// exact field the dipole of Poisson particles of intensity C/a is drawn in its Gaussian
-// limit: mean sum_k sign_k grad C_k V r / (5a), variance sum_k C_k V / (5a) per axis
-// (three normal deviates from the decision stream). `along` is the z-score of D along h.
+// molecules within r and turns toward the perpendicular part of the signed dipole
+// D = sum_k sign_k sum_j (x_j - x) / r; nothing is added to the molecules' noise.
+// Molecule-resolved particle sensing: the particles are the molecules and D is their
+// dipole. Otherwise (every field, the particle estimate included) D is drawn in its
+// Gaussian limit from the field's estimate: mean sum_k sign_k g_k V r / (5m), g_k the
+// decision gradient, variance sum_k C_k V / (5m) per axis (three normal deviates from the
+// decision stream). `along` is the z-score of D along h.
 AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
                             const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t step) {
   Vec3 d{0.0, 0.0, 0.0};
   double variance = 0.0;  // of D per axis
   bool any = false;
-  const bool particles = sp.field == FieldKind::kParticles;
+  const bool molecules = sp.field == FieldKind::kParticles && sp.sensing == ParticleSensing::kMolecules;
   for (int k = 0; k < cue_count; ++k) {
     const CueSample& s = samples[k];
     if (!detected(s, cues[k])) continue;
     any = true;
-    if (particles) {
+    if (molecules) {
       d += cues[k].sign * s.grad;
       variance += s.c / sp.c_per_particle / 5.0;  // n_k / 5
     } else {
-      d += (cues[k].sign * sp.count_mean_scale) * s.grad;
+      d += (cues[k].sign * sp.count_mean_scale) * decision_gradient(s);
       variance += sp.count_var_scale * s.c;
     }
   }
   if (!any) return {h, 0.0};
   const double sd = std::sqrt(variance);
-  if (!particles) {
+  if (!molecules) {
     Rng noise(seed, Stream::kSteerDecision, neuron, step);
     double z0, z1, z2, unused;
     normal_pair(noise, &z0, &z1);

@@ -15,58 +15,17 @@
 
 #include "cues.hpp"
 #include "hd.hpp"
+#include "mesh.hpp"
 #include "sensing.hpp"
 #include "vec3.hpp"
 
 namespace axg::core {
 
-struct GridFieldView {
-  Vec3 origin;      // LU, node (0,0,0)
-  double h;         // LU, node spacing
-  int n;            // nodes per axis
-  const double* c;  // n^3 concentrations of one cue
-};
-
-AXG_HDI std::size_t node_index(int i, int j, int k, int n) {
-  return (static_cast<std::size_t>(k) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)) *
-             static_cast<std::size_t>(n) +
-         static_cast<std::size_t>(i);
-}
-
-// Trilinear interpolation of value and gradient (the gradient of the trilinear
-// interpolant) in the cell containing x; points outside the grid use the nearest cell.
-AXG_HDI CueSample trilinear_sample(Vec3 x, const GridFieldView& g) {
-  auto locate = [&](double v, double o, int* i, double* f) {
-    double t = (v - o) / g.h;
-    const double hi = static_cast<double>(g.n - 1);
-    if (!(t > 0.0)) t = 0.0;
-    if (t > hi) t = hi;
-    int c = static_cast<int>(t);
-    if (c > g.n - 2) c = g.n - 2;
-    *i = c;
-    *f = t - static_cast<double>(c);
-  };
-  int i, j, k;
-  double fx, fy, fz;
-  locate(x.x, g.origin.x, &i, &fx);
-  locate(x.y, g.origin.y, &j, &fy);
-  locate(x.z, g.origin.z, &k, &fz);
-  const double c000 = g.c[node_index(i, j, k, g.n)], c100 = g.c[node_index(i + 1, j, k, g.n)];
-  const double c010 = g.c[node_index(i, j + 1, k, g.n)], c110 = g.c[node_index(i + 1, j + 1, k, g.n)];
-  const double c001 = g.c[node_index(i, j, k + 1, g.n)], c101 = g.c[node_index(i + 1, j, k + 1, g.n)];
-  const double c011 = g.c[node_index(i, j + 1, k + 1, g.n)], c111 = g.c[node_index(i + 1, j + 1, k + 1, g.n)];
-  const double gx = 1.0 - fx, gy = 1.0 - fy, gz = 1.0 - fz;
-  // Interpolate along x, then y, then z; the derivatives follow the same tree.
-  const double c00 = gx * c000 + fx * c100, c10 = gx * c010 + fx * c110;
-  const double c01 = gx * c001 + fx * c101, c11 = gx * c011 + fx * c111;
-  const double c0 = gy * c00 + fy * c10, c1 = gy * c01 + fy * c11;
-  const double value = gz * c0 + fz * c1;
-  const double dx00 = c100 - c000, dx10 = c110 - c010, dx01 = c101 - c001, dx11 = c111 - c011;
-  const double ddx = gz * (gy * dx00 + fy * dx10) + fz * (gy * dx01 + fy * dx11);
-  const double ddy = gz * (c10 - c00) + fz * (c11 - c01);
-  const double ddz = c1 - c0;
-  const Vec3 grad = Vec3{ddx, ddy, ddz} / g.h;
-  return {value, grad, grad};
+// The grid's value and gradient at x (mesh.hpp: trilinear value, interpolated centred
+// differences for the gradient); a grid is exact, so the gradient is its own check.
+AXG_HDI CueSample grid_sample(Vec3 x, const GridFieldView& g) {
+  const MeshSample m = mesh_sample(x, g);
+  return {m.value, m.grad, m.grad};
 }
 
 // The grids of all cues (cue k's n^3 values at c[k]).
@@ -83,7 +42,7 @@ AXG_HDI GridFieldView cue_view(const GridFieldSet& s, int k) { return {s.origin,
 AXG_HDI void sample_grid_field(Vec3 x, const GridFieldSet& set, const CueParams* cues, int cue_count,
                                CueSample* samples, Vec3* pull) {
   for (int k = 0; k < cue_count; ++k) {
-    samples[k] = trilinear_sample(x, cue_view(set, k));
+    samples[k] = grid_sample(x, cue_view(set, k));
     pull[k] = signed_unit_gradient(samples[k], cues[k].sign);
   }
 }
@@ -96,21 +55,11 @@ struct SourceDeposit {
 };
 
 AXG_HDI SourceDeposit source_deposit(Vec3 p, double total, Vec3 origin, double h, int n) {
-  auto locate = [&](double v, double o, int* i, double* f) {
-    double t = (v - o) / h;
-    const double hi = static_cast<double>(n - 1);
-    if (!(t > 0.0)) t = 0.0;
-    if (t > hi) t = hi;
-    int c = static_cast<int>(t);
-    if (c > n - 2) c = n - 2;
-    *i = c;
-    *f = t - static_cast<double>(c);
-  };
   int i, j, l;
   double fx, fy, fz;
-  locate(p.x, origin.x, &i, &fx);
-  locate(p.y, origin.y, &j, &fy);
-  locate(p.z, origin.z, &l, &fz);
+  mesh_locate(p.x, origin.x, h, n, &i, &fx);
+  mesh_locate(p.y, origin.y, h, n, &j, &fy);
+  mesh_locate(p.z, origin.z, h, n, &l, &fz);
   const double per_volume = total / (h * h * h);
   SourceDeposit d{};
   int m = 0;

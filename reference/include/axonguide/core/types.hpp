@@ -11,19 +11,21 @@ enum class ContactRule : std::uint8_t { kSwept, kEndpoint };
 // source), which needs knowledge no growth cone has; kept under a name that says so.
 enum class GuidanceModel : std::uint8_t { kDirect, kSnr, kVectorSum, kSourceVectorSum };
 enum class FieldKind : std::uint8_t { kParticles, kGrid, kAnalytic, kImposed };
-// The noise of the growth cone's decision (docs/methods.md §2.6-§2.7). kBinding and
-// kSnapshot are the SNR model's receptor-noise forms f(gamma): counting binding events,
+// The noise of the growth cone's decision (docs/methods.md §2.6-§2.7), drawn from physical
+// parameters and the field's estimate of C and grad C, the same for every field. kBinding
+// and kSnapshot are the SNR model's receptor-noise forms f(gamma): counting binding events,
 // sqrt(gamma / (1 + gamma)^3), peak at C = K_d / 2; the binomial snapshot of receptor
-// occupancy, sqrt(gamma) / (1 + gamma), peak at C = K_d. kCount: the growth cone counts
-// the cue's particles (of amount a) within its sensing radius and turns toward their
-// dipole; the Poisson count noise is the only noise (for exact fields, its Gaussian limit).
+// occupancy, sqrt(gamma) / (1 + gamma), peak at C = K_d. kCount: the growth cone counts the
+// molecules within its sensing radius and turns toward their dipole; the Poisson noise of
+// the molecules (not of the simulation particles) is the only noise.
 enum class NoiseForm : std::uint8_t { kBinding, kSnapshot, kCount };
-// What the particle gather derives (particles.hpp), set by the noise form: kSplit for the
-// SNR forms (an unbiased split-sample estimate), kCount for the count decision.
-enum class ParticleSensing : std::uint8_t { kSplit, kCount };
+// What a growth cone reads from the particle field (particles.hpp, estimate.hpp):
+// kEstimate: the converged estimate of C and grad C (two half meshes per cue);
+// kMolecules: molecule-resolved count decisions, the count dipole of the particles within
+//   r, each particle one molecule (their Poisson noise is the physical noise, exactly);
+// kGather: the report's source_vector_sum, from the particles within r.
+enum class ParticleSensing : std::uint8_t { kEstimate, kMolecules, kGather };
 enum class ImposedProfile : std::uint8_t { kLinear, kExponential };
-// Which pulls the particle gather sums for the vector models (particles.hpp).
-enum class Pull : std::uint8_t { kNone, kSensed, kSource };
 enum class CueKind : std::uint8_t { kAttractant, kRepellent };
 enum class Motion : std::uint8_t { kBrownian, kBallistic };
 enum class GridScheme : std::uint8_t { kExplicit, kImplicit };

@@ -1,31 +1,37 @@
-"""Explant: guidance index against the amount per particle, particle field vs the analytic
-field under the same noise form (count and binding)."""
+"""Explant: guidance index against resolution for every field and noise form, with the analytic
+index, and the gap to it (log-log) against the amount (particles) and the spacing (grids)."""
 import sys
 from common import plt, read_csv, save
 
 rows = read_csv(sys.argv[1])
-fig, ax = plt.subplots(figsize=(5.8, 3.8))
-for noise, colour, m in (("count", "C0", "o"), ("binding", "C3", "s")):
-    g = [r for r in rows if r["noise"] == noise]
-    if not g:
-        continue
-    a = [float(r["amount"]) for r in g]
-    an = [float(r["analytic"]) for r in g]
-    ae = [float(r["analytic_ci95"]) for r in g]
-    ax.fill_between(a, [x - e for x, e in zip(an, ae)], [x + e for x, e in zip(an, ae)], color=colour, alpha=0.15)
-    ax.plot(a, an, "-", color=colour, lw=1, label=f"analytic, {noise}")
-    gi = [float(r["particles"]) for r in g]
-    pe = [float(r["particles_ci95"]) for r in g]
-    ax.errorbar(a, gi, yerr=pe, fmt=m, color=colour, ms=4, capsize=2,
-                label=f"particles, {noise}" + (" (count decision)" if noise == "count" else " (split estimate)"))
-ax.set_xscale("log")
-ax.invert_xaxis()
-ax.axhline(0, color="k", ls=":", lw=1)
-ax.set_xlabel("amount per particle a (smaller: more particles)")
-ax.set_ylabel("guidance index <cos>")
-g = [r for r in rows if r["noise"] == "count"]
-k = float(g[0]["n"]) * float(g[0]["amount"])
-top = ax.secondary_xaxis("top", functions=(lambda x: k / x, lambda n: k / n))
-top.set_xlabel("particles per sensing volume at the explant", fontsize=8)
-ax.legend(fontsize=7)
+forms = ["count", "binding", "snapshot"]
+methods = [("particles", "o"), ("grid implicit", "s"), ("grid explicit", "^")]
+fig, axes = plt.subplots(1, 4, figsize=(14, 3.5))
+for ax, form in zip(axes[:3], forms):
+    ref = None
+    for method, m in methods:
+        g = sorted((r for r in rows if r["form"] == form and r["method"] == method), key=lambda r: int(r["level"]))
+        if not g:
+            continue
+        lv = [int(r["level"]) for r in g]
+        ax.errorbar(lv, [float(r["index"]) for r in g], yerr=[1.96 * float(r["index SE"]) for r in g], fmt=m + "-",
+                    ms=4, capsize=2, label=method)
+        ref = float(g[0]["index"]) - float(g[0]["gap"])
+    if ref is not None:
+        ax.axhline(ref, color="k", ls="--", lw=1, label="analytic")
+        ax.axhspan(0.9 * ref, 1.1 * ref, color="k", alpha=0.06)
+    ax.set_xlabel("level (0: default; finer to the right)")
+    ax.set_ylabel("guidance index")
+    ax.set_title(form, fontsize=9)
+    ax.legend(fontsize=6)
+ax = axes[3]
+for method, m in methods:
+    for form, ls in zip(forms, ("-", "--", ":")):
+        g = [r for r in rows if r["form"] == form and r["method"] == method and abs(float(r["gap"])) > 0]
+        if g:
+            ax.loglog([float(r["a or h"]) for r in g], [abs(float(r["gap"])) for r in g], m + ls, ms=3,
+                      label=f"{method}, {form}")
+ax.set_xlabel("amount a (particles) or spacing h (grids)")
+ax.set_ylabel("|index - analytic index|")
+ax.legend(fontsize=5)
 save(fig, sys.argv[-1])

@@ -161,7 +161,8 @@ struct Scene {
       double stiffness = 0.5;  // collisions: soft-sphere response, per step
     } particles;
     struct Grid {
-      double spacing = 0.1;
+      // Node spacing, length units; nullopt: grid_spacing()'s rule.
+      std::optional<double> spacing;
       GridScheme scheme = GridScheme::kImplicit;
       GridBoundary boundary = GridBoundary::kAbsorbing;
       bool allow_substeps = true;  // explicit: sub-step to the stability limit, or refuse
@@ -221,6 +222,11 @@ struct Scene {
     return cues.particles.estimate.spacing.value_or(std::min(guidance.sensing_radius, 0.25 * bounds_radius()));
   }
   double estimate_time() const { return cues.particles.estimate.time.value_or(kEstimateSteps * dt); }
+  // The grid field's node spacing: cues.grid.spacing, or min(r, lambda_min / 6, R_b / 4) with
+  // lambda_min the shortest decay length sqrt(D / k) of the cues (docs/methods.md §11.7: the
+  // cheapest spacing whose guidance is within 10 % and evidence error within 10 %).
+  static constexpr double kGridPointsPerLambda = 6.0;
+  double grid_spacing() const;
   bool uses_cues() const { return guidance.model != GuidanceModel::kDirect; }
   std::size_t source_count() const {
     return uses_cues() ? cues.sources.size() + cues.random_sources.count : 0;

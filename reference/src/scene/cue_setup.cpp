@@ -163,7 +163,7 @@ HashGeometry particle_hash_geometry(const Scene& scene) {
 
 GridGeometry3 grid_field_geometry(const Scene& scene) {
   GridGeometry3 g;
-  g.h = scene.cues.grid.spacing;
+  g.h = scene.grid_spacing();
   const double half = scene.bounds_radius();
   // Clamped for the conversion; check_cue_fields refuses grids this large.
   g.n = static_cast<int>(std::min(std::ceil(2.0 * half / g.h) + 1.0, kMaxGridNodes + 1.0));
@@ -180,7 +180,7 @@ std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt)
 std::uint32_t grid_substeps(const Scene& scene, const core::CueParams& cue) {
   if (scene.cues.grid.substeps) return *scene.cues.grid.substeps;
   if (scene.cues.grid.scheme == GridScheme::kImplicit) return 1;
-  return explicit_substeps(cue, scene.cues.grid.spacing, scene.dt);
+  return explicit_substeps(cue, scene.grid_spacing(), scene.dt);
 }
 
 GridGeometry3 estimate_geometry(const Scene& scene) {
@@ -232,7 +232,7 @@ void check_cue_fields(const Scene& scene, const std::vector<core::CueParams>& cu
           human_bytes(static_cast<double>(have))));
   }
   if (!scene.uses_cues() || scene.cues.field != FieldKind::kGrid) return;
-  const double half = scene.bounds_radius(), h = scene.cues.grid.spacing;
+  const double half = scene.bounds_radius(), h = scene.grid_spacing();
   const double n = std::ceil(2.0 * half / h) + 1.0;
   if (n > kMaxGridNodes)
     throw InputError(fmt::format(

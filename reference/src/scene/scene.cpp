@@ -371,7 +371,7 @@ void read_scene(const json& root, Scene& s) {
     if (const json* g = r.take("grid")) {
       ObjectReader rr(*g, "cues.grid");
       auto& q = c.grid;
-      rr.number("spacing", q.spacing, positive());
+      rr.optional_number("spacing", q.spacing, positive());
       rr.choice("scheme", q.scheme, {{"explicit", GridScheme::kExplicit}, {"implicit", GridScheme::kImplicit}});
       rr.choice("boundary", q.boundary, {{"absorbing", GridBoundary::kAbsorbing},
                                          {"reflecting", GridBoundary::kReflecting}});
@@ -517,10 +517,10 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
     warnings.push_back(fmt::format("cues.particles.molecules is true but cues.field is \"{}\": it applies to the "
                                    "particle field only and is ignored",
                                    name_of(s.cues.field)));
-  if (s.cues.field == FieldKind::kGrid && s.cues.grid.spacing >= rb)
+  if (s.cues.field == FieldKind::kGrid && s.grid_spacing() >= rb)
     throw InputError(fmt::format(
         "scene: cues.grid.spacing = {}: must be below the domain radius {} (the grid needs cells)",
-        s.cues.grid.spacing, rb));
+        s.grid_spacing(), rb));
 }
 
 }  // namespace
@@ -639,6 +639,16 @@ const char* name_of(NoiseForm v) {
 }
 const char* name_of(ImposedProfile v) { return v == ImposedProfile::kLinear ? "linear" : "exponential"; }
 
+double Scene::grid_spacing() const {
+  if (cues.grid.spacing) return *cues.grid.spacing;
+  double lambda = HUGE_VAL;
+  for (const Source& src : cues.sources)
+    if (src.decay > 0) lambda = std::min(lambda, std::sqrt(src.diffusion / src.decay));
+  if (cues.random_sources.count > 0 && cues.random_sources.decay > 0)
+    lambda = std::min(lambda, std::sqrt(cues.random_sources.diffusion / cues.random_sources.decay));
+  return std::min({guidance.sensing_radius, lambda / kGridPointsPerLambda, 0.25 * bounds_radius()});
+}
+
 double Scene::molecule_amount() const { return cues.molecule_amount ? *cues.molecule_amount : molecule_amount_from_units(); }
 
 double Scene::molecule_amount_from_units() const {
@@ -727,7 +737,7 @@ json scene_to_json(const Scene& s) {
                               {"collisions", c.particles.collisions}, {"speed", c.particles.speed},
                               {"damping", c.particles.damping}, {"radius", c.particles.radius},
                               {"stiffness", c.particles.stiffness}}},
-               {"grid", {{"spacing", c.grid.spacing}, {"scheme", name_of(c.grid.scheme)},
+               {"grid", {{"spacing", c.grid.spacing ? json(*c.grid.spacing) : json(nullptr)}, {"scheme", name_of(c.grid.scheme)},
                          {"boundary", name_of(c.grid.boundary)},
                          {"allow_substeps", c.grid.allow_substeps}}},
                {"imposed", {{"profile", name_of(c.imposed.profile)},

@@ -229,6 +229,24 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
          s.cues.random_sources.count = 2;
          s.cues.random_sources.emission = 80;
        }},
+      {"particles-molecule-resolved-count", [](Scene& s) {
+         // One particle, one molecule: count decisions from the particles within r.
+         use_count_sensing(s);
+         s.cues.molecule_amount = 0.002;
+         s.cues.particles.molecules = true;
+         s.cues.particles.amount = 0.002;
+         for (Source& src : s.cues.sources) src.emission = 500;
+       }},
+      {"particles-estimate-coarse-mesh-no-average", [](Scene& s) {
+         s.cues.particles.estimate.spacing = 0.7;
+         s.cues.particles.estimate.time = 0.0;
+         s.guidance.model = GuidanceModel::kVectorSum;
+       }},
+      {"grid-implicit-substeps-reflecting", [](Scene& s) {
+         s.cues.field = FieldKind::kGrid;
+         s.cues.grid.substeps = 3;
+         s.cues.grid.boundary = GridBoundary::kReflecting;
+       }},
       {"analytic-mixed-sources-count-modulation", [](Scene& s) {
          s.cues.field = FieldKind::kAnalytic;
          s.axons.growth_modulation = 0.3;
@@ -280,6 +298,15 @@ inline rc::Gen<Scene> gen_cue_scene() {
     s.cues.particles.collisions = *rc::gen::arbitrary<bool>();
     s.cues.grid.spacing = std::max(0.2, s.bounds_radius() / 12);
     s.cues.grid.scheme = *rc::gen::element(GridScheme::kExplicit, GridScheme::kImplicit);
+    if (s.cues.grid.scheme == GridScheme::kImplicit && *rc::gen::arbitrary<bool>())
+      s.cues.grid.substeps = *rc::gen::inRange<std::uint32_t>(1, 4);
+    // The particle estimate's mesh and moving average, or molecule-resolved particles.
+    s.cues.particles.estimate.spacing = *rc::gen::inRange(2, 9) / 10.0 * std::min(1.0, s.bounds_radius() / 2);
+    s.cues.particles.estimate.time = *rc::gen::inRange(0, 30) / 2.0;
+    if (*rc::gen::arbitrary<bool>()) {
+      s.cues.molecule_amount = s.cues.particles.amount;
+      s.cues.particles.molecules = *rc::gen::arbitrary<bool>();
+    }
     s.cues.grid.boundary = *rc::gen::element(GridBoundary::kAbsorbing, GridBoundary::kReflecting);
     s.analysis.bfs_sources = {0};
     return s;

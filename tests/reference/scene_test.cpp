@@ -123,6 +123,21 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{R"({"cues": {"field": "imposed", "imposed": {"profile": "sigmoid"}}})",
             R"(cues.imposed.profile = "sigmoid": must be one of "linear", "exponential")"},
         Bad{R"({"cues": {"field": "fixed"}})", R"(cues.field = "fixed")"},
+        // Physical noise and the particle estimate (issue 21).
+        Bad{R"({"cues": {"molecule_amount": 0}})", "cues.molecule_amount = 0: must be > 0"},
+        Bad{R"({"cues": {"molecule_amount": -1e-5}})", "cues.molecule_amount = -1e-05: must be > 0"},
+        Bad{R"({"units": {"length": "um", "concentration": "nM"}, "cues": {"molecule_amount": 1}})",
+            "the scene declares physical units (length um, time step, concentration nM), which fix one molecule at 1.66054 nM um^3"},
+        Bad{R"({"cues": {"particles": {"molecules": true, "amount": 0.001}}})",
+            "cues.particles.amount = 0.001 with cues.particles.molecules = true: a molecule-resolved particle is one molecule"},
+        Bad{R"({"cues": {"particles": {"molecules": "yes"}}})", R"(cues.particles.molecules = "yes": must be true or false)"},
+        Bad{R"({"cues": {"particles": {"estimate": {"spacing": 0}}}})", "cues.particles.estimate.spacing = 0: must be > 0"},
+        Bad{R"({"cues": {"particles": {"estimate": {"time": -1}}}})", "cues.particles.estimate.time = -1: must be >= 0"},
+        Bad{R"({"cues": {"particles": {"estimate": {"width": 1}}}})", "unknown key cues.particles.estimate.width"},
+        Bad{R"({"cues": {"particles": {"estimate": {"spacing": 9}}}})",
+            "cues.particles.estimate.spacing = 9: must be below the domain radius 5"},
+        Bad{R"({"cues": {"grid": {"substeps": 0}}})", "cues.grid.substeps = 0: must be an integer in [1, 1000000]"},
+        Bad{R"({"cues": {"grid": {"substeps": 1.5}}})", "cues.grid.substeps = 1.5: must be an integer"},
         Bad{R"({"cues": {"field": "imposed", "imposed": {"direction": [0, 0, 0]}}})",
             "cues.imposed.direction = [0,0,0]: must be a non-zero finite vector"},
         Bad{R"({"cues": {"field": "imposed", "imposed": {"direction": [1, 0]}}})", "cues.imposed.direction"},
@@ -351,11 +366,52 @@ RC_GTEST_PROP(scene, AcceptedModelOptionsRoundTrip, ()) {
   s.cues.imposed.steepness = *rc::gen::inRange(0, 1000000);
   s.cues.imposed.reference_length = *rc::gen::inRange(1, 1000) / 3.0;
   s.cues.imposed.concentration = *rc::gen::inRange(1, 1000) / 9.0;
+  // Physical noise and the numerical keys of issue 21, each given or not.
+  if (*rc::gen::arbitrary<bool>() && !(s.units.length == "um" && s.units.concentration != "CU"))
+    s.cues.molecule_amount = *rc::gen::inRange(1, 100000) / 1e7;
+  if (*rc::gen::arbitrary<bool>()) {
+    s.cues.particles.molecules = true;
+    s.cues.particles.amount = s.molecule_amount();
+  }
+  if (*rc::gen::arbitrary<bool>()) s.cues.particles.estimate.spacing = *rc::gen::inRange(1, 100) / 50.0;
+  if (*rc::gen::arbitrary<bool>()) s.cues.particles.estimate.time = *rc::gen::inRange(0, 100) / 4.0;
+  if (*rc::gen::arbitrary<bool>()) s.cues.grid.spacing = *rc::gen::inRange(1, 100) / 100.0;
+  if (*rc::gen::arbitrary<bool>()) s.cues.grid.substeps = *rc::gen::inRange<std::uint32_t>(1, 50);
   const std::string text = scene_to_json(s).dump();
   const Scene back = parse_scene(text, "t").scene;
   RC_ASSERT(scene_to_json(back).dump() == text);
   RC_ASSERT(back.axons.step_length == s.axons.step_length);
   RC_ASSERT(back.axons.persistence_length == s.axons.persistence_length);
+  RC_ASSERT(back.molecule_amount() == s.molecule_amount());
+  RC_ASSERT(back.cues.particles.amount == s.cues.particles.amount);
+  RC_ASSERT(back.grid_spacing() == s.grid_spacing());
+}
+
+// One molecule in each system of units: 1 nM is 0.602214076 molecules per um^3, LU read as
+// 40 um and CU as nM where they are not declared; the key only where units do not fix it.
+TEST(scene, MoleculeAmountFollowsTheUnits) {
+  auto m = [](const char* units) { return parse_scene(units, "t").scene.molecule_amount(); };
+  EXPECT_NEAR(m(R"({"units": {"length": "um", "concentration": "nM"}})"), 1.0 / 0.602214076, 1e-12);
+  EXPECT_NEAR(m(R"({"units": {"length": "um", "concentration": "pM"}})"), 1000.0 / 0.602214076, 1e-9);
+  EXPECT_NEAR(m(R"({"units": {"length": "um", "concentration": "uM"}})"), 0.001 / 0.602214076, 1e-15);
+  EXPECT_NEAR(m("{}"), 1.0 / 0.602214076 / 64000.0, 1e-18);
+  EXPECT_NEAR(m(R"({"units": {"length": "um"}})"), 1.0 / 0.602214076, 1e-12);
+  EXPECT_EQ(m(R"({"cues": {"molecule_amount": 0.002}})"), 0.002);
+  EXPECT_EQ(m(R"({"units": {"concentration": "nM"}, "cues": {"molecule_amount": 0.002}})"), 0.002);
+  // Molecule-resolved particles carry exactly one molecule.
+  const Scene s = parse_scene(R"({"cues": {"molecule_amount": 0.002, "particles": {"molecules": true}}})", "t").scene;
+  EXPECT_EQ(s.cues.particles.amount, 0.002);
+}
+
+// The grid's default spacing follows the cues' shortest decay length and the sensing radius.
+TEST(scene, GridSpacingDefaultFollowsTheDecayLength) {
+  EXPECT_NEAR(Scene::builtin_default().grid_spacing(), 1.0 / 6.0, 1e-15);  // lambda = 1 LU
+  const Scene s = parse_scene(R"({"cues": {"sources": [{"diffusion": 0.5, "decay": 0.05}]}})", "t").scene;
+  EXPECT_NEAR(s.grid_spacing(), std::min(0.5, std::sqrt(10.0) / 6.0), 1e-15);
+  const Scene t = parse_scene(R"({"cues": {"sources": [{"decay": 0}]}})", "t").scene;
+  EXPECT_EQ(t.grid_spacing(), 0.5);  // no decay: the sensing radius
+  const Scene u = parse_scene(R"({"cues": {"grid": {"spacing": 0.3}}})", "t").scene;
+  EXPECT_EQ(u.grid_spacing(), 0.3);
 }
 
 }  // namespace

@@ -188,9 +188,12 @@ def test_the_gil_is_released_while_a_run_works():
     seconds = box["t1"] - box["t0"]
     assert box["result"].summary["steps_run"] == 300
     assert seconds > 0.1
-    # Holding the GIL, the run would leave the main thread one switch interval (5 ms) at
-    # most; released, the main thread counts at a good share of its solo rate.
-    assert count > 0.2 * solo_rate * seconds, (count, solo_rate, seconds)
+    # Holding the GIL, the C++ run would never yield it (the switch interval applies only
+    # between bytecodes), so the main thread could not count at all while it works;
+    # released, it counts at some share of its solo rate. The share depends on the load of
+    # the machine (a test run keeps every core busy), so the bound is 1 % of the solo rate,
+    # far above the zero that a held GIL gives.
+    assert count > max(1000, 0.01 * solo_rate * seconds), (count, solo_rate, seconds)
 
 
 def test_ctrl_c_ends_the_run_at_the_end_of_a_step():

@@ -119,7 +119,8 @@ Vec3 draw_estimate(double c0, double a, double b, std::uint64_t id, std::uint32_
   const core::EstimateFold f = core::estimate_fold(1, 1.0, 2.0 * a / (h * h * h * core::kDepositUnit));
   m.c.resize(2 * nodes);
   for (std::size_t i = 0; i < m.c.size(); ++i) m.c[i] = core::fold_node(0.0, m.q[i], f);
-  m.view = {origin, h, kLocalNodes, nodes, m.c.data()};
+  m.view = core::EstimateSet{};
+  m.view.h = h, m.view.n = kLocalNodes, m.view.nodes = nodes, m.view.c = m.c.data(), m.view.origin[0] = origin;
   return tip;
 }
 

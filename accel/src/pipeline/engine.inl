@@ -261,7 +261,7 @@ class AccelEngine final : public Engine {
     if (scene_.cues.field == FieldKind::kParticles) {
       particle_start_.assign(use_grid_ ? hash_.buckets() + 1 : 1, 0);
       if (use_estimate_) {
-        estimate_.assign(2 * cues_host_.size() * mesh_.nodes(), 0.0);
+        estimate_.assign(2 * cues_host_.size() * mesh_.nodes, 0.0);
         deposit_.assign(estimate_.size(), 0);
       }
     } else if (scene_.cues.field == FieldKind::kGrid) {
@@ -285,7 +285,8 @@ class AccelEngine final : public Engine {
     f.cue_count = static_cast<int>(cues_host_.size());
     f.sense = sense_;
     f.particles = particle_view();
-    f.estimate = {mesh_.origin, mesh_.h, mesh_.n, mesh_.nodes(), raw(estimate_)};
+    f.estimate = mesh_;
+    f.estimate.c = raw(estimate_);
     f.grids = grid_set();
     return f;
   }
@@ -360,8 +361,7 @@ class AccelEngine final : public Engine {
     }
     if (use_estimate_) {
       ScopedPhase p(times, step, "particles.estimate");
-      launch(pos_.size(), DepositParticles{raw(pos_), raw(id_), raw(source_), mesh_.origin, mesh_.h, mesh_.n,
-                                           mesh_.nodes(), raw(deposit_)});
+      launch(pos_.size(), DepositParticles{raw(pos_), raw(id_), raw(source_), mesh_, raw(deposit_)});
       launch(estimate_.size(),
              FoldEstimate{core::estimate_fold(step, estimate_params_.beta, estimate_params_.scale), raw(estimate_),
                           raw(deposit_)});
@@ -438,7 +438,7 @@ class AccelEngine final : public Engine {
   core::ParticleParams particle_params_;
   HashGeometry hash_;
   GridGeometry3 grid_geometry_;
-  GridGeometry3 mesh_;  // the particle estimate's meshes
+  core::EstimateSet mesh_;  // the particle estimate's mesh geometry (c unused)
   EstimateParams estimate_params_;
   bool use_grid_, use_estimate_;
   GridGeometry soma_geometry_;

@@ -96,15 +96,14 @@ struct DepositParticles {
   const Vec3* d_pos;
   const std::uint64_t* d_id;
   const std::uint16_t* d_source;
-  Vec3 origin;
-  double h;
-  int n;
-  std::size_t nodes;
+  core::EstimateSet mesh;  // geometry only
   std::uint64_t* d_deposit;
   AXG_HD void operator()(std::size_t i) const {
-    const core::CicDeposit d = core::cic_deposit(d_pos[i], origin, h, n);
+    const Vec3 origin = mesh.origin[d_source[i]];
+    if (!core::cic_inside(d_pos[i], origin, mesh.h, mesh.n)) return;
+    const core::CicDeposit d = core::cic_deposit(d_pos[i], origin, mesh.h, mesh.n);
     std::uint64_t* q = d_deposit + (2 * static_cast<std::size_t>(d_source[i]) +
-                                    static_cast<std::size_t>(core::estimate_half_of(d_id[i]))) * nodes;
+                                    static_cast<std::size_t>(core::estimate_half_of(d_id[i]))) * mesh.nodes;
     for (int c = 0; c < 8; ++c) atomic_add(q + d.index[c], d.weight[c]);
   }
 };

@@ -51,10 +51,12 @@ std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt)
 // stability limit when it is not given (check_cue_fields refuses fewer than the limit).
 std::uint32_t grid_substeps(const Scene& scene, const core::CueParams& cue);
 
-// The particle estimate's meshes (core/estimate.hpp): nodes spanning the domain's cube at
-// estimate_spacing(), and the weights of its moving average: beta = 1 - e^(-dt/tau) per
+// The particle estimate's meshes (core/estimate.hpp): every cue's nodes at
+// estimate_spacing() over the domain's cube or a cube about its source, and the weights of
+// its moving average: beta = 1 - e^(-dt/tau) per
 // step (1 for tau = 0), scale 2a / (h^3 2^32) per fixed-point unit of one half.
-GridGeometry3 estimate_geometry(const Scene& scene);
+inline constexpr double kEstimateReach = 8.0;   // decay lengths about a source
+core::EstimateSet estimate_geometry(const Scene& scene);  // c = nullptr
 struct EstimateParams {
   double beta;
   double scale;

@@ -36,7 +36,7 @@ class ParticleField final : public CueField {
         estimate_params_(estimate_params(scene)) {
     cell_start_.assign(use_grid_ ? geometry_.buckets() + 1 : 1, 0);
     if (use_estimate_) {
-      estimate_.assign(2 * cues_.size() * mesh_.nodes(), 0.0);
+      estimate_.assign(2 * cues_.size() * mesh_.nodes, 0.0);
       deposit_.assign(estimate_.size(), 0);
     }
   }
@@ -121,14 +121,16 @@ class ParticleField final : public CueField {
   }
 
   core::EstimateSet estimate_set() const {
-    return {mesh_.origin, mesh_.h, mesh_.n, mesh_.nodes(), estimate_.data()};
+    core::EstimateSet e = mesh_;
+    e.c = estimate_.data();
+    return e;
   }
 
   // Every particle's cloud-in-cell weights into the deposit of its cue and half: one task
   // per (cue, half), each over the particles in id order (integer sums: any order gives
   // the same bytes).
   void deposit() {
-    const std::size_t nodes = mesh_.nodes();
+    const std::size_t nodes = mesh_.nodes;
     const auto meshes = static_cast<int>(2 * cues_.size());
     tbb::parallel_for(0, meshes, [&](int m) {
       const auto cue = static_cast<std::uint16_t>(m / 2);
@@ -136,7 +138,8 @@ class ParticleField final : public CueField {
       std::uint64_t* q = deposit_.data() + static_cast<std::size_t>(m) * nodes;
       for (std::size_t i = 0; i < pos_.size(); ++i) {
         if (source_[i] != cue || core::estimate_half_of(id_[i]) != half) continue;
-        const core::CicDeposit d = core::cic_deposit(pos_[i], mesh_.origin, mesh_.h, mesh_.n);
+        if (!core::cic_inside(pos_[i], mesh_.origin[cue], mesh_.h, mesh_.n)) continue;
+        const core::CicDeposit d = core::cic_deposit(pos_[i], mesh_.origin[cue], mesh_.h, mesh_.n);
         for (int c = 0; c < 8; ++c) q[d.index[c]] += d.weight[c];
       }
     });
@@ -231,7 +234,7 @@ class ParticleField final : public CueField {
   bool ballistic_;
   bool use_grid_;      // the hashed grid: collisions and the gathers of the particles within r
   bool use_estimate_;  // the estimate meshes
-  GridGeometry3 mesh_;
+  core::EstimateSet mesh_;  // geometry (c unused)
   EstimateParams estimate_params_;
   std::uint64_t next_id_ = 0;
   // State, in id order.

@@ -183,19 +183,38 @@ std::uint32_t grid_substeps(const Scene& scene, const core::CueParams& cue) {
   return explicit_substeps(cue, scene.grid_spacing(), scene.dt);
 }
 
-GridGeometry3 estimate_geometry(const Scene& scene) {
-  GridGeometry3 g;
+core::EstimateSet estimate_geometry(const Scene& scene) {
+  core::EstimateSet g{};
   g.h = scene.estimate_spacing();
-  const double half = scene.bounds_radius();
-  g.n = static_cast<int>(std::min(std::ceil(2.0 * half / g.h) + 1.0, kMaxGridNodes + 1.0));
+  // Each cue's meshes span the domain's cube, or, when that is larger, a cube centred on
+  // the cue's source kEstimateReach decay lengths wide (a steady profile falls as
+  // e^(-r/lambda)/r, so beyond 8 lambda it is below 10^-4 of its value at lambda): a wide
+  // domain does not cost meshes of its size. A cue without decay, and ballistic motion,
+  // reach the whole domain. Every cue has the same n (the largest), its own origin.
+  const double domain = scene.bounds_radius();
+  const std::vector<core::CueParams> cues = scene.uses_cues() ? make_cues(scene) : std::vector<core::CueParams>{};
+  std::vector<double> half(cues.size(), domain);
+  double widest = cues.empty() ? domain : 0.0;
+  for (std::size_t k = 0; k < cues.size(); ++k) {
+    const bool bounded = cues[k].decay > 0 && scene.cues.particles.motion != Motion::kBallistic;
+    if (bounded) half[k] = std::min(domain, kEstimateReach * std::sqrt(cues[k].diffusion / cues[k].decay) + 2.0 * g.h);
+    widest = std::max(widest, half[k]);
+  }
+  // Clamped for the conversion; check_cue_fields refuses meshes this large.
+  g.n = static_cast<int>(std::min(std::ceil(2.0 * widest / g.h) + 1.0, kMaxGridNodes + 1.0));
+  g.nodes = static_cast<std::size_t>(g.n) * static_cast<std::size_t>(g.n) * static_cast<std::size_t>(g.n);
   const double o = -0.5 * (g.n - 1) * g.h;
-  g.origin = {o, o, o};
+  for (std::size_t k = 0; k < cues.size(); ++k) {
+    const core::Vec3 centre = half[k] < domain ? cues[k].position : core::Vec3{0.0, 0.0, 0.0};
+    g.origin[k] = {centre.x + o, centre.y + o, centre.z + o};
+  }
   return g;
 }
 
+
 EstimateParams estimate_params(const Scene& scene) {
   const double tau = scene.estimate_time();
-  const double h = estimate_geometry(scene).h;
+  const double h = scene.estimate_spacing();
   EstimateParams p;
   p.beta = tau > 0.0 ? 1.0 - core::pm::exp(-scene.dt / tau) : 1.0;
   if (!(p.beta > 0.0)) p.beta = 1.0 / 4294967296.0;  // tau beyond any run: the weights stay positive
@@ -215,13 +234,14 @@ bool particle_grid_used(const Scene& scene) {
 
 void check_cue_fields(const Scene& scene, const std::vector<core::CueParams>& cues) {
   if (particle_estimate_used(scene)) {
-    const double half = scene.bounds_radius(), h = scene.estimate_spacing();
-    const double n = std::ceil(2.0 * half / h) + 1.0;
+    const core::EstimateSet g = estimate_geometry(scene);
+    const double h = g.h;
+    const double n = static_cast<double>(g.n);
     if (n > kMaxGridNodes)
       throw InputError(fmt::format(
-          "scene: cues.particles.estimate.spacing = {}: {:.3g} nodes per axis over the domain of half-width {}; at most "
-          "{} are allowed",
-          h, n, half, kMaxGridNodes));
+          "scene: cues.particles.estimate.spacing = {}: more than {} nodes per axis over the estimate's cube of "
+          "half-width {:.4g} (the domain's, or {} decay lengths about a source); use a coarser spacing",
+          h, kMaxGridNodes, 0.5 * (n - 1) * h, kEstimateReach));
     const std::uint64_t bytes = estimate_cue_bytes(scene);
     const std::uint64_t have = physical_memory_bytes();
     if (have != 0 && bytes > have)
@@ -314,7 +334,7 @@ std::uint64_t estimate_cue_bytes(const Scene& scene) {
       const double per = 24 + 24 + 8 + 2 + 4 + 4 * 4 + 24 + 2;
       const HashGeometry h = particle_hash_geometry(scene);
       // The estimate: per cue two halves of n^3 nodes, a double and a 64-bit deposit each.
-      const double mesh = particle_estimate_used(scene) ? cues * 2.0 * static_cast<double>(estimate_geometry(scene).nodes()) * 16.0 : 0.0;
+      const double mesh = particle_estimate_used(scene) ? cues * 2.0 * static_cast<double>(estimate_geometry(scene).nodes) * 16.0 : 0.0;
       const double b = expected_particles(scene) * per * 2 + static_cast<double>(h.buckets()) * 4.0 + mesh;
       return b >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(b);
     }

@@ -141,7 +141,8 @@ TEST(estimate, SampleTakesTheDirectionFromOneHalfAndTheMagnitudeFromTheOther) {
         c[node_index(i, j, k, n)] = 1.0 + 0.5 * i;           // even half: grad (0.5 / h, 0, 0)
         c[nodes + node_index(i, j, k, n)] = 3.0 + 0.25 * j;  // odd half: grad (0, 0.25 / h, 0)
       }
-  const EstimateSet set{{0, 0, 0}, 1.0, n, nodes, c.data()};
+  EstimateSet set{};
+  set.h = 1.0, set.n = n, set.nodes = nodes, set.c = c.data();
   const CueSample s = estimate_sample({1.5, 1.5, 1.5}, set, 0);
   EXPECT_DOUBLE_EQ(s.c, 0.5 * ((1.0 + 0.75) + (3.0 + 0.375)));
   EXPECT_NEAR(s.grad.x, 0.5, 1e-15);

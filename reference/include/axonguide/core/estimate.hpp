@@ -34,17 +34,19 @@ namespace axg::core {
 inline constexpr double kDepositUnit = 4294967296.0;  // 2^32
 inline constexpr std::uint64_t kDepositUnitInt = std::uint64_t{1} << 32;
 
-// The meshes of every cue: half s of cue k at c + (2k + s) * nodes.
+// The meshes of every cue: half s of cue k at c + (2k + s) * nodes, node (0,0,0) of cue k's
+// meshes at origin[k] (each cue's cube is centred on its source when it is smaller than the
+// domain; cue_setup.cpp, estimate_geometry).
 struct EstimateSet {
-  Vec3 origin;        // LU, node (0,0,0)
   double h;           // LU, node spacing
   int n;              // nodes per axis
   std::size_t nodes;  // n^3
   const double* c;    // 2 K n^3 estimates, concentration units
+  Vec3 origin[kMaxCues];  // LU
 };
 
 AXG_HDI GridFieldView estimate_half(const EstimateSet& s, int cue, int half) {
-  return {s.origin, s.h, s.n, s.c + (2 * static_cast<std::size_t>(cue) + static_cast<std::size_t>(half)) * s.nodes};
+  return {s.origin[cue], s.h, s.n, s.c + (2 * static_cast<std::size_t>(cue) + static_cast<std::size_t>(half)) * s.nodes};
 }
 
 // The half a particle belongs to, for its whole life: the parity of its id.
@@ -54,6 +56,16 @@ struct CicDeposit {
   std::size_t index[8];
   std::uint64_t weight[8];  // fixed point; they sum to exactly 2^32
 };
+
+// Whether a particle deposits: inside the mesh's span on every axis. A cue's mesh spans the
+// domain, or a cube about its source many decay lengths wide (cue_setup.cpp,
+// estimate_geometry); particles beyond it are too rare to matter and are left out rather
+// than piled on the mesh's faces.
+AXG_HDI bool cic_inside(Vec3 x, Vec3 origin, double h, int n) {
+  const double span = static_cast<double>(n - 1) * h;
+  const double tx = x.x - origin.x, ty = x.y - origin.y, tz = x.z - origin.z;
+  return tx >= 0.0 && tx <= span && ty >= 0.0 && ty <= span && tz >= 0.0 && tz <= span;
+}
 
 // The cloud-in-cell weights of a particle at x, corners in (z, y, x) order.
 AXG_HDI CicDeposit cic_deposit(Vec3 x, Vec3 origin, double h, int n) {

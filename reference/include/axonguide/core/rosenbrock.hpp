@@ -1,0 +1,119 @@
+#pragma once
+// A linearly implicit, L-stable integrator of fixed work for small stiff systems
+// y' = f(y) (SPEC §3.7; docs/methods.md §2.10): ROS2 of Verwer, Spee, Blom and Hundsdorfer
+// (1999, SIAM J Sci Comput 20:1456), with gamma = 1 + 1/sqrt(2):
+//
+//   W = I - gamma tau J(y_n),
+//   W k1 = f(y_n),
+//   W k2 = f(y_n + tau k1) - 2 k1,
+//   y_(n+1) = y_n + (3/2) tau k1 + (1/2) tau k2.
+//
+// Second order for any W (it is also a W-method), L-stable (its stability function tends to
+// 0 at infinity), and its work is fixed: one Jacobian, one LU factorisation of W with
+// partial pivoting, two solves and two evaluations of f per step; no Newton iteration, so
+// nothing can fail to converge. What can fail is reported: a singular W, a result that is
+// not finite, or one below the floor the system gives for a species (its positivity). Only
+// + - * / and sqrt, in a fixed order: the same bytes on every backend.
+#include <cstdint>
+
+#include "hd.hpp"
+
+namespace axg::core {
+
+inline constexpr int kMaxStiff = 16;  // species of one system at most
+
+// 1 + 1/sqrt(2), to the last bit (sqrt(2) correctly rounded, then one division and one add).
+AXG_HDI double ros2_gamma() { return 1.0 + 1.0 / 1.4142135623730951; }
+
+// LU factorisation of the n x n row-major matrix a in place with partial pivoting (ties:
+// the lowest row), the row permutation in piv. Returns false for an exactly singular pivot.
+AXG_HDI bool lu_factor(double* a, int n, int* piv) {
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    double best = a[k * n + k] < 0 ? -a[k * n + k] : a[k * n + k];
+    for (int i = k + 1; i < n; ++i) {
+      const double v = a[i * n + k] < 0 ? -a[i * n + k] : a[i * n + k];
+      if (v > best) best = v, p = i;
+    }
+    piv[k] = p;
+    if (!(best > 0.0)) return false;
+    if (p != k)
+      for (int j = 0; j < n; ++j) {
+        const double t = a[k * n + j];
+        a[k * n + j] = a[p * n + j];
+        a[p * n + j] = t;
+      }
+    const double inv = 1.0 / a[k * n + k];
+    for (int i = k + 1; i < n; ++i) {
+      const double l = a[i * n + k] * inv;
+      a[i * n + k] = l;
+      if (l != 0.0)
+        for (int j = k + 1; j < n; ++j) a[i * n + j] = a[i * n + j] - l * a[k * n + j];
+    }
+  }
+  return true;
+}
+
+// Solves (LU) x = b in place, with the factorisation and pivots of lu_factor.
+AXG_HDI void lu_solve(const double* a, int n, const int* piv, double* b) {
+  for (int k = 0; k < n; ++k) {
+    const int p = piv[k];
+    if (p != k) {
+      const double t = b[k];
+      b[k] = b[p];
+      b[p] = t;
+    }
+  }
+  for (int i = 1; i < n; ++i) {
+    double s = b[i];
+    for (int j = 0; j < i; ++j) s = s - a[i * n + j] * b[j];
+    b[i] = s;
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double s = b[i];
+    for (int j = i + 1; j < n; ++j) s = s - a[i * n + j] * b[j];
+    b[i] = s / a[i * n + i];
+  }
+}
+
+enum class StiffStatus : std::uint8_t { kOk = 0, kSingular = 1, kNotFinite = 2, kNegative = 3 };
+
+// One ROS2 step of size tau for a system with f(y, out) and jacobian(y, out_row_major):
+// `sys` provides int size(), void rhs(const double* y, double* f), void jacobian(const
+// double* y, double* j) and double floor(int i) (the lowest value species i may take,
+// -HUGE_VAL for none). y is updated in place; on failure it is left as it was and
+// *species names the first offending species (or -1).
+template <class System>
+AXG_HDI StiffStatus ros2_step(const System& sys, double* y, double tau, int* species) {
+  const int n = sys.size();
+  const double g = ros2_gamma();
+  double w[kMaxStiff * kMaxStiff], k1[kMaxStiff], k2[kMaxStiff], y1[kMaxStiff];
+  int piv[kMaxStiff];
+  sys.jacobian(y, w);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) w[i * n + j] = (i == j ? 1.0 : 0.0) - (g * tau) * w[i * n + j];
+  *species = -1;
+  if (!lu_factor(w, n, piv)) return StiffStatus::kSingular;
+  sys.rhs(y, k1);
+  lu_solve(w, n, piv, k1);
+  for (int i = 0; i < n; ++i) y1[i] = y[i] + tau * k1[i];
+  sys.rhs(y1, k2);
+  for (int i = 0; i < n; ++i) k2[i] = k2[i] - 2.0 * k1[i];
+  lu_solve(w, n, piv, k2);
+  double next[kMaxStiff];
+  for (int i = 0; i < n; ++i) {
+    next[i] = y[i] + (1.5 * tau) * k1[i] + (0.5 * tau) * k2[i];
+    if (!(next[i] - next[i] == 0.0)) {  // NaN or infinite
+      *species = i;
+      return StiffStatus::kNotFinite;
+    }
+    if (next[i] < sys.floor(i)) {
+      *species = i;
+      return StiffStatus::kNegative;
+    }
+  }
+  for (int i = 0; i < n; ++i) y[i] = next[i];
+  return StiffStatus::kOk;
+}
+
+}  // namespace axg::core

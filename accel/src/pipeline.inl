@@ -29,11 +29,14 @@
 #include "axonguide/core/estimate.hpp"
 #include "axonguide/core/growth.hpp"
 #include "axonguide/core/particles.hpp"
+#include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/stencil.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/engine.hpp"
 #include "axonguide/growth_setup.hpp"
+#include "axonguide/axon_stages.hpp"
+#include "axonguide/signalling_setup.hpp"
 
 // Files follow concepts: device (launch, atomics, sorted grids), growth, particles, grid
 // field, graph, and the engine that strings them into steps.

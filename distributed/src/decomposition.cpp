@@ -60,6 +60,10 @@ std::string Decomposition::describe() const {
 }
 
 Decomposition decompose(const Scene& scene, int ranks) {
+  if (scene.signalling())
+    throw RunError("a run decomposed over ranks does not take axons.growth_model = \"signalling\" (its explant "
+                   "inhibition is a mean over a population that may span ranks): run it without mpirun, or sweep "
+                   "its members over ranks with `axonguide sweep`");
   if (scene.uses_cues() && (scene.cues.field == FieldKind::kParticles || scene.cues.field == FieldKind::kGrid))
     throw RunError(fmt::format(
         "a run decomposed over ranks takes direct guidance or the analytic or imposed field; the {} field's "

@@ -90,7 +90,7 @@ class DecomposedEngine final : public Engine {
       }
       ++report_.owned_somas;
       const std::uint32_t id = somas.id[s];
-      const Vec3 h = heading_draw(scene, id);
+      const Vec3 h = initial_heading(scene, id, somas.pos[s]);
       route({axon_start(somas.pos[s], h, scene), h, 0.0, stages_.params().step_length, id, 0, core::kNoNeuron,
              AxonStatus::kGrowing},
             out);

@@ -37,14 +37,35 @@ class AccelEngine final : public Engine {
     active_.resize(n);
     thrust::sequence(active_.begin(), active_.end());
     active_next_.resize(n);
-    if (modulates_growth(scene)) step_length_.assign(n, growth_.step_length);
+    modulated_ = modulates_growth(scene);
+    if (modulated_ || scene.signalling()) step_length_.assign(n, growth_.step_length);
     if (scene.uses_cues()) init_field();
+    if (scene.signalling()) {
+      signal_params_ = signalling_params(scene);
+      soma_by_id_.assign(placement.soma.begin(), placement.soma.end());
+      signal_.assign(n * core::kSignalSpecies, 0.0);
+      receptors_.assign(n, 0.0);
+      inhibition_.assign(n, 0.0);
+      fail_id_.assign(1, core::kNoNeuron);
+      fail_code_.assign(n, 0);
+      std::vector<std::uint64_t> first{0};
+      if (scene.axons.signalling.population) {  // without populations, every neuron is the explant
+        for (const Population& p : scene.neurons.populations) first.push_back(first.back() + p.count);
+        if (scene.neurons.populations.empty()) first.push_back(n);
+      }
+      population_first_.assign(first.begin(), first.end());
+    }
   }
 
+  // The fields' warm-up, then the signalling model's start (as the reference engine).
   void warm_up() override {
     if (!scene_.uses_cues()) return;
     PhaseTimes warmup;  // before the step loop: not part of any step's timings
     for (std::uint32_t s = 1; s <= scene_.cues.warmup_steps; ++s) advance_field(s, warmup);
+    if (scene_.signalling()) {
+      soma_signals(true);
+      launch(active_.size(), StartSignals{raw(ids_), fields(), signal_arrays()});
+    }
   }
 
   void save(EngineState& out) override {
@@ -66,6 +87,20 @@ class AccelEngine final : public Engine {
     copy_out(vel_, out.particle_vel);
     copy_out(id_, out.particle_id);
     copy_out(source_, out.particle_cue);
+    out.signal.clear();
+    out.receptors.clear();
+    if (scene_.signalling()) {
+      // slot-major networks to id order
+      std::vector<double> by_slot(signal_.size());
+      thrust::copy(signal_.begin(), signal_.end(), by_slot.begin());
+      std::vector<std::uint32_t> ids(ids_.size());
+      thrust::copy(ids_.begin(), ids_.end(), ids.begin());
+      out.signal.resize(by_slot.size());
+      for (std::size_t k = 0; k < ids.size(); ++k)
+        std::copy_n(by_slot.data() + k * core::kSignalSpecies, core::kSignalSpecies,
+                    out.signal.data() + static_cast<std::size_t>(ids[k]) * core::kSignalSpecies);
+      copy_out(receptors_, out.receptors);
+    }
     out.grid.clear();
     if (use_estimate_) copy_out(estimate_, out.grid);
     if (scene_.uses_cues() && scene_.cues.field == FieldKind::kGrid) {
@@ -102,6 +137,19 @@ class AccelEngine final : public Engine {
     vel_.assign(in.particle_vel.begin(), in.particle_vel.end());
     id_.assign(in.particle_id.begin(), in.particle_id.end());
     source_.assign(in.particle_cue.begin(), in.particle_cue.end());
+    if (scene_.signalling()) {
+      if (in.signal.size() != signal_.size() || in.receptors.size() != receptors_.size())
+        throw std::runtime_error("checkpoint: the signalling state does not match the scene's neurons");
+      std::vector<std::uint32_t> ids(ids_.size());
+      thrust::copy(ids_.begin(), ids_.end(), ids.begin());
+      std::vector<double> by_slot(in.signal.size());
+      for (std::size_t k = 0; k < ids.size(); ++k)
+        std::copy_n(in.signal.data() + static_cast<std::size_t>(ids[k]) * core::kSignalSpecies, core::kSignalSpecies,
+                    by_slot.data() + k * core::kSignalSpecies);
+      signal_.assign(by_slot.begin(), by_slot.end());
+      receptors_.assign(in.receptors.begin(), in.receptors.end());
+      inhibition_from_receptors();
+    }
     if (use_estimate_) {
       if (in.grid.size() != estimate_.size())
         throw std::runtime_error("checkpoint: the particle estimate has " + std::to_string(in.grid.size()) +
@@ -116,9 +164,14 @@ class AccelEngine final : public Engine {
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     if (scene_.uses_cues()) {
       advance_field(scene_.cues.warmup_steps + step, times);
+      if (scene_.signalling()) {
+        ScopedPhase p(times, step, "signalling.somas");
+        soma_signals(false);
+      }
       ScopedPhase p(times, step, "steer");
       launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(), growth_.step_length,
-                                   fields(), steer_, scene_.seed, step});
+                                   modulated_, fields(), steer_, signal_arrays(), scene_.seed, step});
+      if (scene_.signalling()) check_signalling(step);
     }
     {
       ScopedPhase p(times, step, "grow");
@@ -249,6 +302,50 @@ class AccelEngine final : public Engine {
   }
 
   double* step_lengths() { return step_length_.empty() ? nullptr : raw(step_length_); }
+
+  SignalArrays signal_arrays() {
+    SignalArrays a{};
+    if (!scene_.signalling()) return a;
+    a.params = signal_params_;
+    a.d_signal = raw(signal_);
+    a.d_inhibition = raw(inhibition_);
+    a.d_receptors = raw(receptors_);
+    a.d_soma = raw(soma_by_id_);
+    a.cue = static_cast<int>(scene_.axons.signalling.cue);
+    a.substeps = static_cast<int>(scene_.axons.signalling.substeps);
+    a.dt = scene_.dt;
+    a.d_fail_id = raw(fail_id_);
+    a.d_fail_code = raw(fail_code_);
+    return a;
+  }
+
+  // The inhibitory signal from the receptors: each population's mean, or each neuron's own.
+  void inhibition_from_receptors() {
+    if (population_first_.size() > 1)
+      launch(population_first_.size() - 1, PopulationInhibition{raw(population_first_), raw(receptors_), raw(inhibition_)});
+    else
+      thrust::copy(receptors_.begin(), receptors_.end(), inhibition_.begin());
+  }
+
+  void soma_signals(bool start) {
+    launch(receptors_.size(), SomaReceptors{fields(), signal_arrays(), start});
+    inhibition_from_receptors();
+  }
+
+  // A failed signalling step: the lowest failing neuron id, then its slot's code.
+  void check_signalling(std::uint32_t step) {
+    const std::uint32_t id = fail_id_[0];
+    if (id == core::kNoNeuron) return;
+    std::vector<std::uint32_t> ids(ids_.size());
+    thrust::copy(ids_.begin(), ids_.end(), ids.begin());
+    const std::size_t k = static_cast<std::size_t>(std::find(ids.begin(), ids.end(), id) - ids.begin());
+    const std::uint16_t code = fail_code_[k];
+    SignallingFailure f;
+    f.neuron = id;
+    f.status = static_cast<core::StiffStatus>(code >> 8);
+    f.species = (code & 0xff) - 1;
+    throw_signalling_failure(scene_, f, step);
+  }
 
   core::CellGridView somas_view() const {
     const GridGeometry& g = soma_geometry_;
@@ -462,6 +559,14 @@ class AccelEngine final : public Engine {
   dvec<std::uint64_t> deposit_;        // this step's fixed-point deposits
   std::vector<int> cur_;
   std::vector<std::uint32_t> substeps_;
+  // The signalling model.
+  bool modulated_ = false;
+  core::SignallingParams signal_params_{};
+  dvec<Vec3> soma_by_id_;
+  dvec<double> signal_, receptors_, inhibition_;
+  dvec<std::uint32_t> fail_id_;
+  dvec<std::uint16_t> fail_code_;
+  dvec<std::uint64_t> population_first_;
 };
 
 std::unique_ptr<Engine> make_engine(const Scene& scene, const Placement& placement) {

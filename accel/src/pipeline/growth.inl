@@ -28,41 +28,115 @@ struct CueFields {
   core::GridFieldSet grids;
 };
 
+// Every cue's sample and pull at x, from whichever field the scene has.
+AXG_HDI void sample_fields(Vec3 x, const CueFields& fields, core::CueSample* samples, Vec3* pull) {
+  switch (fields.kind) {
+    case core::FieldKind::kParticles:
+      core::sample_particle_field(x, fields.particles, fields.estimate, fields.d_cues, fields.cue_count, fields.sense,
+                                  samples, pull);
+      break;
+    case core::FieldKind::kGrid:
+      core::sample_grid_field(x, fields.grids, fields.d_cues, fields.cue_count, samples, pull);
+      break;
+    case core::FieldKind::kAnalytic:
+      core::sample_analytic_field(x, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
+      break;
+    case core::FieldKind::kImposed:
+      core::sample_imposed_field(x, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
+      break;
+  }
+}
+
+// The signalling model's inputs for the kernels (null pointers: not used).
+struct SignalArrays {
+  core::SignallingParams params;
+  double* d_signal;            // kSignalSpecies per slot
+  const double* d_inhibition;  // by neuron id
+  double* d_receptors;         // by neuron id
+  const Vec3* d_soma;          // by neuron id
+  int cue;
+  int substeps;
+  double dt;
+  std::uint32_t* d_fail_id;    // the lowest failing neuron id (integer atomic minimum)
+  std::uint16_t* d_fail_code;  // per slot: status << 8 | (species + 1) of a failed step
+};
+
 struct Steer {
   const std::uint32_t* d_active;
   const std::uint32_t* d_ids;
   const Vec3* d_tip;
   Vec3* d_heading;
-  double* d_step_length;  // null unless growth-rate modulation is on
+  double* d_step_length;  // null unless axons have their own step lengths
   double step_length;     // l0
+  bool modulated;         // growth-rate modulation
   CueFields fields;
   core::SteerParams params;
+  SignalArrays signal;    // d_signal null without the signalling model
   std::uint64_t seed;
   std::uint32_t step;
   AXG_HD void operator()(std::size_t a) const {
     const std::uint32_t k = d_active[a];
     core::CueSample samples[core::kMaxCues];
     Vec3 pull[core::kMaxCues];
-    const Vec3 x = d_tip[k];
-    switch (fields.kind) {
-      case core::FieldKind::kParticles:
-        core::sample_particle_field(x, fields.particles, fields.estimate, fields.d_cues, fields.cue_count, fields.sense,
-                                    samples, pull);
-        break;
-      case core::FieldKind::kGrid:
-        core::sample_grid_field(x, fields.grids, fields.d_cues, fields.cue_count, samples, pull);
-        break;
-      case core::FieldKind::kAnalytic:
-        core::sample_analytic_field(x, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
-        break;
-      case core::FieldKind::kImposed:
-        core::sample_imposed_field(x, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
-        break;
-    }
+    sample_fields(d_tip[k], fields, samples, pull);
     const core::Steered s = core::steer_axon(d_heading[k], samples, pull, fields.d_cues, fields.cue_count, fields.sense,
                                              params, seed, d_ids[k], step);
     d_heading[k] = s.heading;
-    if (d_step_length) d_step_length[k] = core::modulated_step(step_length, s.along, params);
+    if (modulated) d_step_length[k] = core::modulated_step(step_length, s.along, params);
+    if (signal.d_signal) {
+      const core::SignallingStep g =
+          core::signalling_step(signal.params, signal.d_signal + static_cast<std::size_t>(k) * core::kSignalSpecies,
+                                samples[signal.cue].c, signal.d_inhibition[d_ids[k]], signal.dt, signal.substeps);
+      d_step_length[k] = g.grown;
+      if (g.status != core::StiffStatus::kOk) {
+        signal.d_fail_code[k] = static_cast<std::uint16_t>((static_cast<int>(g.status) << 8) | (g.species + 1));
+        atomic_min(signal.d_fail_id, d_ids[k]);
+      }
+    }
+  }
+};
+
+// The cell-body receptors of neuron i over a step (or at their steady state at the start).
+struct SomaReceptors {
+  CueFields fields;
+  SignalArrays signal;
+  bool start;
+  AXG_HD void operator()(std::size_t i) const {
+    core::CueSample samples[core::kMaxCues];
+    Vec3 pull[core::kMaxCues];
+    sample_fields(signal.d_soma[i], fields, samples, pull);
+    const double c = samples[signal.cue].c;
+    const core::SignallingParams& q = signal.params;
+    signal.d_receptors[i] = start ? core::bound_receptors(q.It, q.kpI, q.kmI, c)
+                                  : core::soma_receptor_step(q, signal.d_receptors[i], c, signal.dt);
+  }
+};
+
+// One thread per population: its mean receptors over its ids in order, to each of them.
+struct PopulationInhibition {
+  const std::uint64_t* d_first;  // per population, then the end
+  const double* d_receptors;
+  double* d_inhibition;
+  AXG_HD void operator()(std::size_t p) const {
+    double sum = 0.0;
+    for (std::uint64_t i = d_first[p]; i < d_first[p + 1]; ++i) sum += d_receptors[i];
+    const double mean = sum / static_cast<double>(d_first[p + 1] - d_first[p]);
+    for (std::uint64_t i = d_first[p]; i < d_first[p + 1]; ++i) d_inhibition[i] = mean;
+  }
+};
+
+// Every network at its steady state with the tip at its soma.
+struct StartSignals {
+  const std::uint32_t* d_ids;
+  CueFields fields;
+  SignalArrays signal;
+  AXG_HD void operator()(std::size_t k) const {
+    const std::uint32_t id = d_ids[k];
+    core::CueSample samples[core::kMaxCues];
+    Vec3 pull[core::kMaxCues];
+    sample_fields(signal.d_soma[id], fields, samples, pull);
+    core::signalling_steady_state(signal.params, samples[signal.cue].c, signal.d_inhibition[id],
+                                  signal.d_signal + static_cast<std::size_t>(k) * core::kSignalSpecies);
   }
 };
 
@@ -71,7 +145,7 @@ struct Grow {
   const std::uint32_t* d_ids;
   core::GrowthParams params;
   core::WanderParams wander;
-  const double* d_step_length;  // null unless growth-rate modulation is on
+  const double* d_step_length;  // null unless axons have their own step lengths
   std::uint64_t seed;
   core::CellGridView somas;
   std::uint32_t step;

@@ -10,6 +10,7 @@
 #include "axonguide/core/cellgrid.hpp"
 #include "axonguide/core/cues.hpp"
 #include "axonguide/core/growth.hpp"
+#include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/wander.hpp"
 #include "axonguide/scene.hpp"
@@ -18,29 +19,62 @@ namespace axg {
 
 class CueField;
 
-// The axons' arrays, indexed by slot. step_length is null without growth-rate modulation.
+// The axons' arrays, indexed by slot. step_length is null unless axons have their own
+// step lengths (growth-rate modulation, the signalling model); signal and inhibition are
+// null without the signalling model.
 struct AxonArrays {
   const std::uint32_t* id;      // neuron id of each slot
   core::Vec3* tip;              // LU
   core::Vec3* heading;          // unit
   double* length;               // LU grown
-  double* step_length;          // LU, per axon (modulation only)
+  double* step_length;          // LU, per axon (modulation, signalling)
   core::AxonStatus* status;
   std::uint32_t* steps;         // the last step grown
   std::uint32_t* target;        // kNoNeuron unless connected
+  double* signal = nullptr;            // kSignalSpecies per slot: the axon's network
+  const double* inhibition = nullptr;  // by neuron id: the inhibitory signal its network reads
+};
+
+// The first axon (lowest neuron id) whose signalling step failed in a stage, or none.
+struct SignallingFailure {
+  std::uint32_t neuron = core::kNoNeuron;
+  int species = -1;
+  core::StiffStatus status = core::StiffStatus::kOk;
 };
 
 struct GrowthCounts {
   std::uint64_t connected = 0, exited = 0;
 };
 
+// Exit 3 for a signalling step that failed (RunError): which axon, step and species.
+[[noreturn]] void throw_signalling_failure(const Scene& scene, const SignallingFailure& f, std::uint32_t step);
+
 class AxonStages {
  public:
   explicit AxonStages(const Scene& scene);
 
   // Stage 2: every listed axon samples every cue at its tip and makes its one turn (and,
-  // with growth-rate modulation, sets its step length).
-  void steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a, std::uint32_t step) const;
+  // with growth-rate modulation, sets its step length; with the signalling model,
+  // integrates its network over the step, which sets its step length). Returns the first
+  // signalling failure (lowest neuron id), if any.
+  SignallingFailure steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a,
+                          std::uint32_t step) const;
+
+  // The signalling model's cell bodies (every neuron, by id): the receptors at each soma
+  // driven by the concentration of the model's cue there over one step (exactly), then the
+  // inhibitory signal each network reads: its population's mean in id order, or its own.
+  // `start` sets the receptors to their steady state instead (before the first step).
+  void soma_signals(const CueField& field, const std::vector<core::Vec3>& soma, double* receptors, double* inhibition,
+                    bool start) const;
+  // Every listed axon's network at its steady state with the tip at its soma (the initial
+  // condition, after soma_signals(start)).
+  void start_signals(const CueField& field, const std::vector<core::Vec3>& soma, const std::vector<std::uint32_t>& slots,
+                     AxonArrays a) const;
+  // The inhibitory signal from the receptors (soma_signals' second half; also on resume).
+  void inhibition_from(const double* receptors, double* inhibition, std::size_t n) const;
+  bool signalling() const { return signalling_; }
+  // Whether axons carry their own step length (modulation or signalling).
+  bool own_step_lengths() const { return modulated_ || signalling_; }
   // Stages 3-5: every listed axon moves, tests contact against `somas` and the bounds, and
   // its heading takes the random walk of the next step. Returns how many connected and
   // exited (integer sums: exact in any order).
@@ -56,6 +90,12 @@ class AxonStages {
   core::GrowthParams params_;
   core::WanderParams wander_;
   bool modulated_;
+  bool signalling_;
+  core::SignallingParams signal_params_{};
+  int signal_cue_ = 0, signal_substeps_ = 1;
+  bool population_inhibition_ = true;
+  double dt_ = 1.0;
+  std::vector<Population> populations_;
   std::vector<core::CueParams> cues_;
   core::SenseParams sense_;
   core::SteerParams steer_;

@@ -8,6 +8,7 @@
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/core/wander.hpp"
 #include "axonguide/scene.hpp"
+#include "axonguide/signalling_setup.hpp"
 
 namespace axg {
 
@@ -38,6 +39,7 @@ inline bool modulates_growth(const Scene& s) { return s.axons.growth_modulation 
 // The longest step any axon can take, LU: l0, or l0 (1 + m) with modulation (the bound of
 // core::modulated_step); what a step's contact search can reach beyond its tip.
 inline double max_step_length(const Scene& s) {
+  if (s.signalling()) return signalling_max_step(s);
   return modulates_growth(s) ? s.axons.step_length * (1.0 + s.axons.growth_modulation) : s.axons.step_length;
 }
 

@@ -33,5 +33,9 @@ void check_packing(const Scene& scene);
 // The position of neuron `id` at `attempt`, and its initial heading.
 core::Vec3 soma_draw(const Scene& scene, std::uint64_t id, std::uint32_t attempt);
 core::Vec3 heading_draw(const Scene& scene, std::uint64_t id);
+// Neuron `id`'s initial heading with its soma at `soma`: heading_draw's, or under
+// neurons.heading "radial" the unit vector from its population's centre (the origin
+// without populations) through the soma (heading_draw's where the two coincide).
+core::Vec3 initial_heading(const Scene& scene, std::uint64_t id, core::Vec3 soma);
 
 }  // namespace axg

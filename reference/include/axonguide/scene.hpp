@@ -26,6 +26,7 @@ using core::ImposedProfile;
 using core::Motion;
 using core::NoiseForm;
 using core::ParticleSensing;
+using core::GrowthModel;
 using core::RegionShape;
 using core::Sampler;
 
@@ -93,6 +94,9 @@ struct Scene {
     Sampler sampler = Sampler::kRejection;
     bool overlap_reject = true;
     std::uint32_t max_attempts = 1000;
+    // Initial axon headings: drawn by the sampler (false), or radial, away from the
+    // population's centre through the soma (true; an explant's outgrowth).
+    bool radial_heading = false;
     // Empty: one population filling the region. Otherwise count is their sum and each
     // neuron is drawn in its population's ball (the region still bounds the axons).
     std::vector<Population> populations;
@@ -114,6 +118,17 @@ struct Scene {
     // L_p of the heading's random walk, length units; nullopt: no wandering.
     std::optional<double> persistence_length = kDefaultPersistenceUm / kMicrometresPerLu;
     double growth_modulation = 0.0;  // m in [0, 1): step length l0 (1 + m z / (1 + |z|)); 0: off
+    // The growth model: a constant step length, or the growth-cone signalling network of
+    // Bicknell et al. 2018 (core/signalling.hpp), whose output sets each axon's extension.
+    GrowthModel growth_model = GrowthModel::kConstant;
+    struct Signalling {
+      std::uint32_t cue = 0;       // the cue whose concentration drives the receptors
+      bool population = true;      // inhibition: the population's mean (true) or the soma's own
+      std::uint32_t substeps = 1;  // ROS2 steps per growth step
+      // Values given in the scene, in Table 1's units (per minute, per nM per minute, um
+      // per minute, counts), by kSignalTable's index; nullopt: Table 1's (or derived).
+      std::array<std::optional<double>, 32> given{};
+    } signalling;
   } axons;
 
   struct Guidance {
@@ -227,7 +242,9 @@ struct Scene {
   // cheapest spacing whose guidance is within 10 % and evidence error within 10 %).
   static constexpr double kGridPointsPerLambda = 6.0;
   double grid_spacing() const;
-  bool uses_cues() const { return guidance.model != GuidanceModel::kDirect; }
+  bool signalling() const { return axons.growth_model == GrowthModel::kSignalling; }
+  // Cue fields exist for steering, or for the signalling model's receptors.
+  bool uses_cues() const { return guidance.model != GuidanceModel::kDirect || signalling(); }
   std::size_t source_count() const {
     return uses_cues() ? cues.sources.size() + cues.random_sources.count : 0;
   }
@@ -272,6 +289,7 @@ const char* name_of(GridScheme v);
 const char* name_of(GridBoundary v);
 const char* name_of(NoiseForm v);
 const char* name_of(ImposedProfile v);
+const char* name_of(GrowthModel v);
 const char* name_of(core::AxonStatus v);
 
 }  // namespace axg

@@ -51,8 +51,12 @@ struct EngineState {
   std::vector<core::Vec3> particle_pos, particle_vel;  // velocity: ballistic motion only
   std::vector<std::uint64_t> particle_id;
   std::vector<std::uint16_t> particle_cue;
-  // Grid field: every cue's current values, cue after cue (K n^3 values).
+  // Grid field: every cue's current values, cue after cue (K n^3 values); particle field:
+  // the estimate's meshes.
   std::vector<double> grid;
+  // The signalling model: each axon's network (core::kSignalSpecies per neuron, by id) and
+  // the cell-body receptors of each neuron.
+  std::vector<double> signal, receptors;
 };
 
 // Wall-clock time per (step, phase): the only output allowed to vary between runs.

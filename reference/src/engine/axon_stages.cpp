@@ -4,9 +4,15 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
+
+#include <fmt/format.h>
+
 #include "axonguide/cue_setup.hpp"
+#include "axonguide/error.hpp"
 #include "axonguide/fields.hpp"
 #include "axonguide/growth_setup.hpp"
+#include "axonguide/signalling_setup.hpp"
 
 namespace axg {
 
@@ -15,24 +21,109 @@ AxonStages::AxonStages(const Scene& scene)
       params_(growth_params(scene)),
       wander_(wander_params(scene)),
       modulated_(modulates_growth(scene)),
+      signalling_(scene.signalling()),
       cues_(make_cues(scene)),
       sense_(sense_params(scene)),
-      steer_(steer_params(scene)) {}
+      steer_(steer_params(scene)) {
+  if (signalling_) {
+    signal_params_ = signalling_params(scene);
+    signal_cue_ = static_cast<int>(scene.axons.signalling.cue);
+    signal_substeps_ = static_cast<int>(scene.axons.signalling.substeps);
+    population_inhibition_ = scene.axons.signalling.population;
+    dt_ = scene.dt;
+    populations_ = scene.neurons.populations;
+  }
+}
 
-void AxonStages::steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a,
-                       std::uint32_t step) const {
+namespace {
+
+SignallingFailure first_failure(SignallingFailure x, SignallingFailure y) { return y.neuron < x.neuron ? y : x; }
+
+}  // namespace
+
+SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a,
+                                    std::uint32_t step) const {
   const int cue_count = static_cast<int>(cues_.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slots.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, slots.size()), SignallingFailure{},
+      [&](const tbb::blocked_range<std::size_t>& r, SignallingFailure failed) {
+        core::CueSample samples[core::kMaxCues];
+        core::Vec3 pull[core::kMaxCues];
+        for (std::size_t s = r.begin(); s != r.end(); ++s) {
+          const std::uint32_t k = slots[s];
+          field.sample(a.tip[k], samples, pull);
+          const core::Steered st = core::steer_axon(a.heading[k], samples, pull, cues_.data(), cue_count, sense_, steer_,
+                                                    seed_, a.id[k], step);
+          a.heading[k] = st.heading;
+          if (modulated_) a.step_length[k] = core::modulated_step(params_.step_length, st.along, steer_);
+          if (signalling_) {
+            const core::SignallingStep g =
+                core::signalling_step(signal_params_, a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies,
+                                      samples[signal_cue_].c, a.inhibition[a.id[k]], dt_, signal_substeps_);
+            a.step_length[k] = g.grown;
+            if (g.status != core::StiffStatus::kOk && a.id[k] < failed.neuron)
+              failed = {a.id[k], g.species, g.status};
+          }
+        }
+        return failed;
+      },
+      first_failure);
+}
+
+void AxonStages::soma_signals(const CueField& field, const std::vector<core::Vec3>& soma, double* receptors,
+                              double* inhibition, bool start) const {
+  const core::SignallingParams& q = signal_params_;
+  tbb::parallel_for(std::size_t{0}, soma.size(), [&](std::size_t i) {
     core::CueSample samples[core::kMaxCues];
     core::Vec3 pull[core::kMaxCues];
-    for (std::size_t s = r.begin(); s != r.end(); ++s) {
-      const std::uint32_t k = slots[s];
-      field.sample(a.tip[k], samples, pull);
-      const core::Steered st =
-          core::steer_axon(a.heading[k], samples, pull, cues_.data(), cue_count, sense_, steer_, seed_, a.id[k], step);
-      a.heading[k] = st.heading;
-      if (modulated_) a.step_length[k] = core::modulated_step(params_.step_length, st.along, steer_);
-    }
+    field.sample(soma[i], samples, pull);
+    const double c = samples[signal_cue_].c;
+    receptors[i] = start ? core::bound_receptors(q.It, q.kpI, q.kmI, c) : core::soma_receptor_step(q, receptors[i], c, dt_);
+  });
+  inhibition_from(receptors, inhibition, soma.size());
+}
+
+void AxonStages::inhibition_from(const double* receptors, double* inhibition, std::size_t n) const {
+  // Each population's mean over its cell bodies, in id order (the populations take
+  // consecutive ids; without populations every neuron is the explant), or each neuron's own.
+  if (!population_inhibition_) {
+    std::copy(receptors, receptors + n, inhibition);
+    return;
+  }
+  std::vector<std::size_t> ends;
+  for (const Population& p : populations_) ends.push_back((ends.empty() ? 0 : ends.back()) + p.count);
+  if (ends.empty()) ends.push_back(n);
+  std::size_t first = 0;
+  for (const std::size_t end : ends) {
+    double sum = 0.0;
+    for (std::size_t i = first; i < end; ++i) sum += receptors[i];
+    const double mean = sum / static_cast<double>(end - first);
+    for (std::size_t i = first; i < end; ++i) inhibition[i] = mean;
+    first = end;
+  }
+}
+
+void throw_signalling_failure(const Scene& scene, const SignallingFailure& f, std::uint32_t step) {
+  static const char* names[core::kSignalSpecies] = {"A", "Ac", "Ic", "X", "Y", "Zx", "Zy", "F", "G", "Gs", "R"};
+  const char* what = f.status == core::StiffStatus::kSingular    ? "the implicit system was singular"
+                     : f.status == core::StiffStatus::kNotFinite ? "a species was not finite"
+                                                                 : "a species left its range (below 0, or F above F_t)";
+  throw RunError(fmt::format(
+      "signalling: the stiff step of axon {} failed at step {} ({}{}{}), with axons.signalling.substeps = {} ROS2 steps "
+      "of {} per growth step; give more sub-steps",
+      f.neuron, step, what, f.species >= 0 ? ": species " : "", f.species >= 0 ? names[f.species] : "",
+      scene.axons.signalling.substeps, scene.dt / scene.axons.signalling.substeps));
+}
+
+void AxonStages::start_signals(const CueField& field, const std::vector<core::Vec3>& soma,
+                               const std::vector<std::uint32_t>& slots, AxonArrays a) const {
+  tbb::parallel_for(std::size_t{0}, slots.size(), [&](std::size_t s) {
+    const std::uint32_t k = slots[s], id = a.id[k];
+    core::CueSample samples[core::kMaxCues];
+    core::Vec3 pull[core::kMaxCues];
+    field.sample(soma[id], samples, pull);
+    core::signalling_steady_state(signal_params_, samples[signal_cue_].c, a.inhibition[id],
+                                  a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies);
   });
 }
 
@@ -44,12 +135,13 @@ GrowthCounts AxonStages::grow(const core::CellGridView& somas, const std::vector
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
           const std::uint32_t k = slots[s];
           const std::uint32_t id = a.id[k];
-          const double l = modulated_ ? a.step_length[k] : params_.step_length;
+          const bool own = modulated_ || signalling_;
+          const double l = own ? a.step_length[k] : params_.step_length;
           const core::Vec3 h = a.heading[k];
           const core::AxonStep st = core::grow_axon(id, a.tip[k], h, l, params_, somas);
           // The heading's random walk for the next step (independent of the move, so the
           // two overlap in the pipeline).
-          a.heading[k] = core::wander(h, l, !modulated_, wander_, seed_, id, step);
+          a.heading[k] = core::wander(h, l, !own, wander_, seed_, id, step);
           a.tip[k] = st.tip;
           a.length[k] += st.advanced;
           a.steps[k] = step;

@@ -197,6 +197,8 @@ void contents(Io& io, Run& r, State& e) {
   io.array(e.particle_id);
   io.array(e.particle_cue);
   io.array(e.grid);
+  io.array(e.signal);
+  io.array(e.receptors);
 }
 
 }  // namespace

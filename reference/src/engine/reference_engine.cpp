@@ -1,6 +1,7 @@
 // The reference engine: the per-step pipeline of SPEC §3.2 as TBB loops over core/
 // functions. Each loop body writes only its own slot; counts are integer reductions.
 #include <algorithm>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
@@ -38,7 +39,7 @@ class ReferenceEngine final : public Engine {
   ReferenceEngine(const Scene& scene, const Placement& placement)
       : scene_(scene),
         stages_(scene),
-        modulated_(stages_.modulated()),
+        modulated_(stages_.own_step_lengths()),
         field_(make_reference_field(scene, stages_.cues())) {
     somas_ = build_cell_grid(soma_grid_geometry(scene), placement.soma);
     const std::size_t n = placement.soma.size();
@@ -52,12 +53,24 @@ class ReferenceEngine final : public Engine {
     active_.resize(n);
     for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
     if (modulated_) step_length_.assign(n, stages_.params().step_length);
+    if (stages_.signalling()) {
+      soma_ = placement.soma;
+      signal_.assign(n * core::kSignalSpecies, 0.0);
+      receptors_.assign(n, 0.0);
+      inhibition_.assign(n, 0.0);
+    }
   }
 
+  // The fields' warm-up, then the signalling model's start: the cell bodies' receptors at
+  // their steady state and every network at its steady state with the tip at its soma.
   void warm_up() override {
     if (!field_) return;
     PhaseTimes warmup;  // before the step loop: not part of any step's timings
     for (std::uint32_t s = 1; s <= scene_.cues.warmup_steps; ++s) field_->advance(s, warmup);
+    if (stages_.signalling()) {
+      stages_.soma_signals(*field_, soma_, receptors_.data(), inhibition_.data(), true);
+      stages_.start_signals(*field_, soma_, active_, arrays());
+    }
   }
 
   void save(EngineState& out) override {
@@ -76,6 +89,12 @@ class ReferenceEngine final : public Engine {
       out.heading[i] = heading_[k];
       if (modulated_) out.step_length[i] = step_length_[k];
     });
+    out.signal.resize(signal_.size());
+    tbb::parallel_for(std::size_t{0}, signal_.size() / core::kSignalSpecies, [&](std::size_t k) {
+      std::copy_n(signal_.data() + k * core::kSignalSpecies, core::kSignalSpecies,
+                  out.signal.data() + static_cast<std::size_t>(ids[k]) * core::kSignalSpecies);
+    });
+    out.receptors = receptors_;
     out.connected = stats_.connected;
     out.exited = stats_.exited;
     if (field_) field_->save(out);
@@ -94,6 +113,16 @@ class ReferenceEngine final : public Engine {
       heading_[k] = in.heading[i];
       if (modulated_) step_length_[k] = in.step_length[i];
     });
+    if (stages_.signalling()) {
+      if (in.signal.size() != signal_.size() || in.receptors.size() != receptors_.size())
+        throw std::runtime_error("checkpoint: the signalling state does not match the scene's neurons");
+      tbb::parallel_for(std::size_t{0}, ids.size(), [&](std::size_t k) {
+        std::copy_n(in.signal.data() + static_cast<std::size_t>(ids[k]) * core::kSignalSpecies, core::kSignalSpecies,
+                    signal_.data() + k * core::kSignalSpecies);
+      });
+      receptors_ = in.receptors;
+      stages_.inhibition_from(receptors_.data(), inhibition_.data(), receptors_.size());
+    }
     active_.clear();
     for (std::size_t k = 0; k < ids.size(); ++k)
       if (state_.status[k] == AxonStatus::kGrowing) active_.push_back(static_cast<std::uint32_t>(k));
@@ -107,8 +136,13 @@ class ReferenceEngine final : public Engine {
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     if (field_) {
       field_->advance(scene_.cues.warmup_steps + step, times);
+      if (stages_.signalling()) {
+        ScopedPhase p(times, step, "signalling.somas");
+        stages_.soma_signals(*field_, soma_, receptors_.data(), inhibition_.data(), false);
+      }
       ScopedPhase p(times, step, "steer");
-      stages_.steer(*field_, active_, arrays(), step);
+      const SignallingFailure failed = stages_.steer(*field_, active_, arrays(), step);
+      if (failed.neuron != core::kNoNeuron) throw_signalling_failure(scene_, failed, step);
     }
     {
       ScopedPhase p(times, step, "grow");
@@ -142,6 +176,10 @@ class ReferenceEngine final : public Engine {
     release(active_);
     release(heading_);
     release(step_length_);
+    release(signal_);
+    release(receptors_);
+    release(inhibition_);
+    release(soma_);
     const std::vector<std::uint32_t>& ids = somas_.ids;
     scatter(ids, state_.tip, out.tip);
     scatter(ids, state_.length, out.length);
@@ -154,6 +192,7 @@ class ReferenceEngine final : public Engine {
 
   std::size_t bytes() const override {
     return (field_ ? field_->bytes() : 0) + somas_.bytes() + active_.capacity() * 4 + heading_.capacity() * sizeof(core::Vec3) + step_length_.capacity() * 8 +
+           (signal_.capacity() + receptors_.capacity() + inhibition_.capacity()) * 8 + soma_.capacity() * sizeof(core::Vec3) +
            state_.size() * (sizeof(core::Vec3) + 8 + 1 + 4 + 4);
   }
 
@@ -161,7 +200,8 @@ class ReferenceEngine final : public Engine {
   AxonArrays arrays() {
     return {somas_.ids.data(), state_.tip.data(), heading_.data(), state_.length.data(),
             modulated_ ? step_length_.data() : nullptr, state_.status.data(), state_.steps.data(),
-            state_.target.data()};
+            state_.target.data(), signal_.empty() ? nullptr : signal_.data(),
+            inhibition_.empty() ? nullptr : inhibition_.data()};
   }
 
   // Keeps the growing axons, in slot order.
@@ -178,7 +218,11 @@ class ReferenceEngine final : public Engine {
   CellGrid somas_;
   NeuronState state_;  // in slot order
   std::vector<core::Vec3> heading_;
-  std::vector<double> step_length_;  // per slot, with growth-rate modulation only
+  std::vector<double> step_length_;  // per slot, with growth-rate modulation or signalling
+  // The signalling model: each slot's network, the somas by id, their receptors and the
+  // inhibitory signal the networks read (by id).
+  std::vector<double> signal_, receptors_, inhibition_;
+  std::vector<core::Vec3> soma_;
   std::vector<std::uint32_t> active_;
   StepStats stats_;
 };

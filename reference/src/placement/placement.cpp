@@ -49,6 +49,15 @@ Vec3 heading_draw(const Scene& scene, std::uint64_t id) {
   return sample_direction3(scene.neurons.sampler, rng);
 }
 
+Vec3 initial_heading(const Scene& scene, std::uint64_t id, Vec3 soma) {
+  if (!scene.neurons.radial_heading) return heading_draw(scene, id);
+  const auto& pops = scene.neurons.populations;
+  const Vec3 centre = pops.empty() ? Vec3{0.0, 0.0, 0.0} : pops[scene.neurons.population_of(id)].center;
+  const Vec3 d = soma - centre;
+  const double n = std::sqrt(core::norm2(d));
+  return n > 0.0 ? d * (1.0 / n) : heading_draw(scene, id);
+}
+
 namespace {
 
 // Random sequential addition cannot exceed these (3D close packing; hexagonal discs).
@@ -88,6 +97,18 @@ void placement_failed(const Scene& scene, std::uint64_t id) {
       nn.radius, nn.shape == RegionShape::kSphere ? "0.547" : "0.38"));
 }
 
+namespace {
+
+// Radial headings follow the final soma positions.
+Placement radial_headings(const Scene& scene, Placement& out) {
+  if (scene.neurons.radial_heading)
+    tbb::parallel_for(std::size_t{0}, out.soma.size(),
+                      [&](std::size_t i) { out.heading[i] = initial_heading(scene, i, out.soma[i]); });
+  return std::move(out);
+}
+
+}  // namespace
+
 Placement place_neurons(const Scene& scene) {
   const auto& nn = scene.neurons;
   const std::size_t n = static_cast<std::size_t>(nn.count);
@@ -98,7 +119,7 @@ Placement place_neurons(const Scene& scene) {
     out.soma[i] = soma_draw(scene, i, 0);
     out.heading[i] = heading_draw(scene, i);
   });
-  if (!nn.overlap_reject || n < 2) return out;
+  if (!nn.overlap_reject || n < 2) return radial_headings(scene, out);
   check_packing(scene);
 
   // Random sequential addition in id order: attempt k of soma i is rejected when it
@@ -134,7 +155,7 @@ Placement place_neurons(const Scene& scene) {
     }
     for (std::size_t i = a; i < b; ++i) index.insert(static_cast<std::uint32_t>(i), out.soma[i]);
   }
-  return out;
+  return radial_headings(scene, out);
 }
 
 }  // namespace axg

@@ -19,6 +19,7 @@
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/json_input.hpp"
+#include "axonguide/signalling_setup.hpp"
 
 namespace axg {
 
@@ -255,6 +256,7 @@ void read_scene(const json& root, Scene& s) {
                                     {"trig", Sampler::kTrig}, {"coordinate", Sampler::kCoordinate}});
     r.choice("overlap", n.overlap_reject, {{"reject", true}, {"allow", false}});
     r.integer("max_attempts", n.max_attempts, 1, 1000000000);
+    r.choice("heading", n.radial_heading, {{"random", false}, {"radial", true}});
     if (const json* pops = r.take("populations")) {
       if (!pops->is_array() || pops->empty() || pops->size() > 64)
         fail("neurons.populations", *pops, "must be an array of 1 to 64 objects {count, center, radius}");
@@ -307,6 +309,22 @@ void read_scene(const json& root, Scene& s) {
     r.optional_number("bounds_radius", a.bounds_radius, positive());
     r.optional_number("persistence_length", a.persistence_length, positive());
     r.number("growth_modulation", a.growth_modulation, {0, 1, false, true});
+    r.choice("growth_model", a.growth_model, {{"constant", GrowthModel::kConstant}, {"signalling", GrowthModel::kSignalling}});
+    if (const json* sg = r.take("signalling")) {
+      ObjectReader rr(*sg, "axons.signalling");
+      auto& q = a.signalling;
+      rr.integer("cue", q.cue, 0, static_cast<std::uint64_t>(core::kMaxCues - 1));
+      rr.choice("inhibition", q.population, {{"population", true}, {"soma", false}});
+      rr.integer("substeps", q.substeps, 1, 100000);
+      for (std::size_t k = 0; k < kSignalParameters; ++k) {
+        const SignalParameter& p = kSignalTable[k];
+        if (const json* v = rr.take(p.name)) {
+          if (v->is_null() && p.derived) q.given[k].reset();
+          else q.given[k] = read_signal_value(*v, rr.path(p.name), p);
+        }
+      }
+      rr.finish();
+    }
     r.finish();
   }
 
@@ -487,7 +505,28 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
         "scene: axons.growth_modulation = {}: growth-rate modulation responds to the SNR evidence and needs "
         "guidance.model = \"snr\" (it is \"{}\")",
         s.axons.growth_modulation, name_of(s.guidance.model)));
-  if (s.guidance.model == GuidanceModel::kDirect) {
+  if (s.signalling()) {
+    const auto& u = s.units;
+    if (u.length != "um" || u.time == "step" || u.concentration == "CU")
+      throw InputError(fmt::format(
+          "scene: axons.growth_model = \"signalling\" needs physical units (units.length \"um\", units.time \"s\", "
+          "\"min\" or \"h\", units.concentration \"pM\", \"nM\" or \"uM\"): its rate constants are per time and per "
+          "concentration; the scene has {}",
+          u.describe()));
+    if (s.axons.growth_modulation > 0.0)
+      throw InputError(fmt::format(
+          "scene: axons.growth_modulation = {} with axons.growth_model = \"signalling\": both would set the step length; "
+          "the signalling model sets it, so growth_modulation must be 0",
+          s.axons.growth_modulation));
+    if (s.source_count() == 0)
+      throw InputError("scene: axons.growth_model = \"signalling\" needs a cue source (cues.sources or "
+                       "cues.random_sources): its receptors read the concentration of cue axons.signalling.cue");
+    if (s.axons.signalling.cue >= s.source_count())
+      throw InputError(fmt::format("scene: axons.signalling.cue = {}: the scene has {} cue source(s), numbered 0 to {} in "
+                                   "the canonical order",
+                                   s.axons.signalling.cue, s.source_count(), s.source_count() - 1));
+  }
+  if (s.guidance.model == GuidanceModel::kDirect && !s.signalling()) {
     if (cues_given) warnings.push_back("guidance.model is \"direct\": the cues section is ignored");
     return;
   }
@@ -638,6 +677,7 @@ const char* name_of(NoiseForm v) {
   return "?";
 }
 const char* name_of(ImposedProfile v) { return v == ImposedProfile::kLinear ? "linear" : "exponential"; }
+const char* name_of(GrowthModel v) { return v == GrowthModel::kConstant ? "constant" : "signalling"; }
 
 double Scene::grid_spacing() const {
   if (cues.grid.spacing) return *cues.grid.spacing;
@@ -702,6 +742,7 @@ json scene_to_json(const Scene& s) {
                   {"sampler", name_of(n.sampler)},
                   {"overlap", n.overlap_reject ? "reject" : "allow"},
                   {"max_attempts", n.max_attempts}};
+  if (n.radial_heading) j["neurons"]["heading"] = "radial";  // only when given (older scenes keep their bytes)
   if (!n.populations.empty()) {  // written only when given, so that older scenes keep their bytes
     json pops = json::array();
     for (const Population& p : n.populations)
@@ -761,6 +802,17 @@ json scene_to_json(const Scene& s) {
   if (c.particles.estimate.spacing) j["cues"]["particles"]["estimate"]["spacing"] = *c.particles.estimate.spacing;
   if (c.particles.estimate.time) j["cues"]["particles"]["estimate"]["time"] = *c.particles.estimate.time;
   if (c.grid.substeps) j["cues"]["grid"]["substeps"] = *c.grid.substeps;
+  if (s.signalling()) {
+    const auto& q = s.axons.signalling;
+    j["axons"]["growth_model"] = name_of(s.axons.growth_model);
+    json sg = {{"cue", q.cue}, {"inhibition", q.population ? "population" : "soma"}, {"substeps", q.substeps}};
+    for (std::size_t k = 0; k < kSignalParameters; ++k) {
+      const SignalParameter& p = kSignalTable[k];
+      if (q.given[k]) sg[p.name] = signal_value_json(*q.given[k], p);
+      else sg[p.name] = p.derived ? json(nullptr) : signal_value_json(p.value, p);
+    }
+    j["axons"]["signalling"] = sg;
+  }
   return j;
 }
 

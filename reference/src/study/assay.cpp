@@ -108,7 +108,7 @@ Metrics measure(const Scene& scene, const std::vector<Vec3>& soma, const NeuronS
 
     // Turning: the signed angle in the plane from the initial heading to the net
     // displacement of the tip, positive toward the gradient.
-    const Vec3 h0 = heading_draw(scene, i);
+    const Vec3 h0 = initial_heading(scene, i, soma[i]);
     const Vec3 start = soma[i] + h0 * scene.neurons.soma_radius;
     const Vec3 dd = neurons.tip[i] - start;
     const double ax = core::dot(h0, g.across), ay = core::dot(h0, g.up);

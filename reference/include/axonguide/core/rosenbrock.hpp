@@ -76,13 +76,13 @@ AXG_HDI void lu_solve(const double* a, int n, const int* piv, double* b) {
   }
 }
 
-enum class StiffStatus : std::uint8_t { kOk = 0, kSingular = 1, kNotFinite = 2, kNegative = 3 };
+enum class StiffStatus : std::uint8_t { kOk = 0, kSingular = 1, kNotFinite = 2, kOutOfRange = 3 };
 
-// One ROS2 step of size tau for a system with f(y, out) and jacobian(y, out_row_major):
-// `sys` provides int size(), void rhs(const double* y, double* f), void jacobian(const
-// double* y, double* j) and double floor(int i) (the lowest value species i may take,
-// -HUGE_VAL for none). y is updated in place; on failure it is left as it was and
-// *species names the first offending species (or -1).
+// One ROS2 step of size tau: `sys` provides int size(), void rhs(const double* y, double*
+// f), void jacobian(const double* y, double* j) (row-major df_i/dy_j), and double floor(int
+// i) and ceiling(int i), the range species i must stay in (its positivity, and a total it
+// cannot exceed). y is updated in place; on failure it is left as it was and *species names
+// the first offending species (or -1).
 template <class System>
 AXG_HDI StiffStatus ros2_step(const System& sys, double* y, double tau, int* species) {
   const int n = sys.size();
@@ -107,9 +107,9 @@ AXG_HDI StiffStatus ros2_step(const System& sys, double* y, double tau, int* spe
       *species = i;
       return StiffStatus::kNotFinite;
     }
-    if (next[i] < sys.floor(i)) {
+    if (next[i] < sys.floor(i) || next[i] > sys.ceiling(i)) {
       *species = i;
-      return StiffStatus::kNegative;
+      return StiffStatus::kOutOfRange;
     }
   }
   for (int i = 0; i < n; ++i) y[i] = next[i];

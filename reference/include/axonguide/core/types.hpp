@@ -26,6 +26,9 @@ enum class NoiseForm : std::uint8_t { kBinding, kSnapshot, kCount };
 // kGather: the report's source_vector_sum, from the particles within r.
 enum class ParticleSensing : std::uint8_t { kEstimate, kMolecules, kGather };
 enum class ImposedProfile : std::uint8_t { kLinear, kExponential };
+// What sets an axon's extension: a constant step length (with optional growth-rate
+// modulation), or the growth-cone signalling network of signalling.hpp.
+enum class GrowthModel : std::uint8_t { kConstant, kSignalling };
 enum class CueKind : std::uint8_t { kAttractant, kRepellent };
 enum class Motion : std::uint8_t { kBrownian, kBallistic };
 enum class GridScheme : std::uint8_t { kExplicit, kImplicit };

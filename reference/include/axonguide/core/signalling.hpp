@@ -1,0 +1,176 @@
+#pragma once
+// Growth-cone signalling (SPEC §3.7; docs/methods.md §2.10), after Bicknell, Pujic, Dayan &
+// Goodhill 2018 (PLoS Comput Biol 14:e1006218, Table 1 and its Fig 5 model). Each axon
+// carries an intracellular network whose output sets its extension rate:
+//
+//   A   activated receptors at the growth cone (of A_t), driven by C at the tip;
+//   Ac  A's signal transported to the cell body;
+//   Ic  the cell-body inhibitory signal I transported to the growth cone;
+//   X, Zx / Y, Zy   the gradient readout: X grows with Ac and is removed by Zx, which needs
+//       both Ac and I; Y likewise with I; so X and Y compare tip and cell body;
+//   F   a Goldbeter-Koshland switch (of F_t) pushed up by X and down by Y;
+//   G, Gs  a growth-promoting state, made at a0 + aF F, activated by A, deactivated by Ic;
+//   R   the axon's length: R' = r0 + kext Gs.
+//
+// The inhibitory signal I is an input: the cell-body receptors driven by C at the soma
+// (I' = kpI C_soma (I_t - I) - kmI I, integrated exactly per neuron, soma_receptor_step)
+// or, in an explant, their mean over the population (inhibitory signalling among the cell
+// bodies). Rates are per time unit of the scene, concentrations in its unit (the scene's
+// parser converts Table 1's per-minute, per-nM values). Integrated by ROS2
+// (rosenbrock.hpp) at fixed work; positivity of every species and F <= F_t are checked.
+#include <cmath>
+
+#include "hd.hpp"
+#include "pmath.hpp"
+#include "rosenbrock.hpp"
+
+namespace axg::core {
+
+inline constexpr int kSignalSpecies = 11;  // A, Ac, Ic, X, Y, Zx, Zy, F, G, Gs, R
+enum SignalSpecies : int { kSA = 0, kSAc, kSIc, kSX, kSY, kSZx, kSZy, kSF, kSG, kSGs, kSR };
+
+struct SignallingParams {
+  double At, It;             // receptor totals (counts)
+  double kpA, kmA, kpI, kmI; // receptor on (per concentration per time) and off (per time) rates
+  double kr, kdegA;          // A's transport to the cell body and its signal's decay (per time)
+  double ka, kdegI;          // I's transport to the growth cone and its decay (per time)
+  double a2, b2, a3, b3;     // X and Y production (per time) and removal (per time)
+  double a4, b4, a5, b5;     // Zx, Zy production (per count per time) and removal (per time)
+  double g1, g2;             // Z-X and Z-Y annihilation (per count per time)
+  double Ft, a6, b6, kX, kY; // the switch: total, up and down rates (per time), Michaelis constants (counts)
+  double a0, aF, a1, b1, b0; // G production (per time; per F per time), activation, deactivation, decay
+  double r0, kext;           // basal growth (length per time), growth per Gs (length per time)
+};
+
+// One axon's network with its inputs held over a step: C at the tip and the inhibitory
+// signal I. The interface of ros2_step.
+struct SignallingSystem {
+  const SignallingParams* p;
+  double c;  // concentration at the tip
+  double i;  // inhibitory signal (count)
+
+  AXG_HDI int size() const { return kSignalSpecies; }
+  AXG_HDI double floor(int) const { return 0.0; }
+  AXG_HDI double ceiling(int s) const { return s == kSF ? p->Ft : (s == kSA ? p->At : HUGE_VAL); }
+
+  AXG_HDI void rhs(const double* y, double* f) const {
+    const SignallingParams& q = *p;
+    const double u = q.Ft - y[kSF];
+    f[kSA] = q.kpA * c * (q.At - y[kSA]) - q.kmA * y[kSA];
+    f[kSAc] = q.kr * y[kSA] - q.kdegA * y[kSAc];
+    f[kSIc] = q.ka * i - q.kdegI * y[kSIc];
+    f[kSX] = q.a2 * y[kSAc] - q.b2 * y[kSX] - q.g1 * y[kSZx] * y[kSX];
+    f[kSY] = q.a3 * i - q.b3 * y[kSY] - q.g2 * y[kSZy] * y[kSY];
+    f[kSZx] = q.a4 * y[kSAc] * i - q.b4 * y[kSZx] - q.g1 * y[kSZx] * y[kSX];
+    f[kSZy] = q.a5 * y[kSAc] * i - q.b5 * y[kSZy] - q.g2 * y[kSZy] * y[kSY];
+    f[kSF] = q.a6 * y[kSX] * u / (q.kX + u) - q.b6 * y[kSY] * y[kSF] / (q.kY + y[kSF]);
+    f[kSG] = q.a0 + q.aF * y[kSF] - q.a1 * y[kSA] * y[kSG] + q.b1 * y[kSIc] * y[kSGs] - q.b0 * y[kSG];
+    f[kSGs] = q.a1 * y[kSA] * y[kSG] - q.b1 * y[kSIc] * y[kSGs] - q.b0 * y[kSGs];
+    f[kSR] = q.r0 + q.kext * y[kSGs];
+  }
+
+  // Row-major df_i / dy_j.
+  AXG_HDI void jacobian(const double* y, double* j) const {
+    const SignallingParams& q = *p;
+    const int n = kSignalSpecies;
+    for (int k = 0; k < n * n; ++k) j[k] = 0.0;
+    const double u = q.Ft - y[kSF];
+    j[kSA * n + kSA] = -q.kpA * c - q.kmA;
+    j[kSAc * n + kSA] = q.kr;
+    j[kSAc * n + kSAc] = -q.kdegA;
+    j[kSIc * n + kSIc] = -q.kdegI;
+    j[kSX * n + kSAc] = q.a2;
+    j[kSX * n + kSX] = -q.b2 - q.g1 * y[kSZx];
+    j[kSX * n + kSZx] = -q.g1 * y[kSX];
+    j[kSY * n + kSY] = -q.b3 - q.g2 * y[kSZy];
+    j[kSY * n + kSZy] = -q.g2 * y[kSY];
+    j[kSZx * n + kSAc] = q.a4 * i;
+    j[kSZx * n + kSZx] = -q.b4 - q.g1 * y[kSX];
+    j[kSZx * n + kSX] = -q.g1 * y[kSZx];
+    j[kSZy * n + kSAc] = q.a5 * i;
+    j[kSZy * n + kSZy] = -q.b5 - q.g2 * y[kSY];
+    j[kSZy * n + kSY] = -q.g2 * y[kSZy];
+    const double ku = q.kX + u, kf = q.kY + y[kSF];
+    j[kSF * n + kSX] = q.a6 * u / ku;
+    j[kSF * n + kSY] = -q.b6 * y[kSF] / kf;
+    j[kSF * n + kSF] = -q.a6 * y[kSX] * q.kX / (ku * ku) - q.b6 * y[kSY] * q.kY / (kf * kf);
+    j[kSG * n + kSF] = q.aF;
+    j[kSG * n + kSA] = -q.a1 * y[kSG];
+    j[kSG * n + kSG] = -q.a1 * y[kSA] - q.b0;
+    j[kSG * n + kSIc] = q.b1 * y[kSGs];
+    j[kSG * n + kSGs] = q.b1 * y[kSIc];
+    j[kSGs * n + kSA] = q.a1 * y[kSG];
+    j[kSGs * n + kSG] = q.a1 * y[kSA];
+    j[kSGs * n + kSIc] = -q.b1 * y[kSGs];
+    j[kSGs * n + kSGs] = -q.b1 * y[kSIc] - q.b0;
+    j[kSR * n + kSGs] = q.kext;
+  }
+};
+
+// The positive root of x^2 + p x - q = 0 (q >= 0), without cancellation.
+AXG_HDI double positive_root(double p, double q) {
+  const double d = std::sqrt(p * p + 4.0 * q);
+  return p > 0.0 ? 2.0 * q / (p + d) : 0.5 * (d - p);
+}
+
+// Receptor occupancy at steady state: total x c / (c + K), K = off / on.
+AXG_HDI double bound_receptors(double total, double on, double off, double c) {
+  const double k = off / on;
+  return c > 0.0 ? total * c / (c + k) : 0.0;
+}
+
+// The network's steady state with C = c at the tip and inhibitory signal i (R = 0): the
+// initial condition of every axon, with c and i those of its cell body (Bicknell et al.'s
+// closed forms: each pair (X, Zx), (Y, Zy) solves a quadratic, F the Goldbeter-Koshland
+// function, G + Gs = (a0 + aF F) / b0).
+AXG_HDI void signalling_steady_state(const SignallingParams& q, double c, double i, double* y) {
+  const double a = bound_receptors(q.At, q.kpA, q.kmA, c);
+  const double ac = q.kr / q.kdegA * a;
+  const double ic = q.ka / q.kdegI * i;
+  const double x = positive_root(q.b4 / q.g1 + ac * (q.a4 * i - q.a2) / q.b2, q.a2 * ac * q.b4 / (q.b2 * q.g1));
+  const double yy = positive_root(q.b5 / q.g2 + i * (q.a5 * ac - q.a3) / q.b3, q.a3 * i * q.b5 / (q.b3 * q.g2));
+  const double zx = q.a4 * ac * i / (q.b4 + q.g1 * x);
+  const double zy = q.a5 * ac * i / (q.b5 + q.g2 * yy);
+  // Goldbeter-Koshland: v1 (1 - f) / (J1 + 1 - f) = v2 f / (J2 + f), f = F / F_t.
+  const double v1 = q.a6 * x, v2 = q.b6 * yy, j1 = q.kX / q.Ft, j2 = q.kY / q.Ft;
+  const double b = v2 - v1 + j1 * v2 + j2 * v1;
+  const double disc = b * b - 4.0 * (v2 - v1) * v1 * j2;
+  const double den = b + std::sqrt(disc > 0.0 ? disc : 0.0);
+  const double f = den > 0.0 ? 2.0 * v1 * j2 / den : (v1 > 0.0 ? 1.0 : 0.0);
+  const double F = q.Ft * f;
+  const double total = (q.a0 + q.aF * F) / q.b0;
+  const double gs = total * q.a1 * a / (q.a1 * a + q.b1 * ic + q.b0);
+  y[kSA] = a, y[kSAc] = ac, y[kSIc] = ic, y[kSX] = x, y[kSY] = yy, y[kSZx] = zx, y[kSZy] = zy;
+  y[kSF] = F, y[kSG] = total - gs, y[kSGs] = gs, y[kSR] = 0.0;
+}
+
+// The cell-body receptors over a step of length dt at soma concentration c, exactly:
+// I -> I_inf + (I - I_inf) e^(-(kpI c + kmI) dt).
+AXG_HDI double soma_receptor_step(const SignallingParams& q, double i, double c, double dt) {
+  const double rate = q.kpI * c + q.kmI;
+  const double inf = rate > 0.0 ? q.It * q.kpI * c / rate : 0.0;
+  return inf + (i - inf) * pm::exp(-rate * dt);
+}
+
+struct SignallingStep {
+  StiffStatus status;
+  int species;   // the first species that failed, or -1
+  double grown;  // length grown over the step (R's increase)
+};
+
+// One growth step of one axon: `substeps` ROS2 steps of dt / substeps with C = c at the tip
+// and inhibitory signal i. On failure the state is left at the last good sub-step.
+AXG_HDI SignallingStep signalling_step(const SignallingParams& q, double* y, double c, double i, double dt,
+                                       int substeps) {
+  const SignallingSystem sys{&q, c, i};
+  const double tau = dt / static_cast<double>(substeps);
+  const double r_before = y[kSR];
+  for (int s = 0; s < substeps; ++s) {
+    int species = -1;
+    const StiffStatus st = ros2_step(sys, y, tau, &species);
+    if (st != StiffStatus::kOk) return {st, species, y[kSR] - r_before};
+  }
+  return {StiffStatus::kOk, -1, y[kSR] - r_before};
+}
+
+}  // namespace axg::core

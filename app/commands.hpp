@@ -77,6 +77,11 @@ struct FitArgs {
   double max_chi2 = 3.0;
   bool scale = false;
   int seeds = 4;
+  int max_seeds = 64;
+  double target_se = 1.0 / 3.0;
+  bool mirror = true;
+  std::vector<std::string> params, corrections;
+  std::string bias_metric;
   double gain_lo = 1, gain_hi = 1000;
   int coarse = 7, refine = 2;
   int threads = 0;

@@ -105,14 +105,29 @@ int dispatch(int argc, char** argv) {
   sweep_cmd->add_flag("--quiet,-q", sweep.quiet, "No summary or progress");
 
   FitArgs fit;
-  auto* fit_cmd = app.add_subcommand("fit", "Fit the gain and K_d (and a concentration scale) to measured bias");
-  fit_cmd->add_option("data", fit.data_path, "CSV: concentration, steepness, bias, se, count")->required();
+  auto* fit_cmd = app.add_subcommand("fit", "Fit a model's parameters to measured bias and/or outgrowth");
+  fit_cmd->add_option("data", fit.data_path,
+                      "CSV: concentration, steepness, count, bias and/or outgrowth, se (or bias_se, outgrowth_se)")
+      ->required();
   fit_cmd->add_option("--scene", fit.scene_path, "Base scene: an explant in an imposed gradient")->required();
   fit_cmd->add_option("--out", fit.out_dir, "Output directory")->required();
   fit_cmd->add_option("--max-chi2", fit.max_chi2, "Exit 1 when chi2/dof is above this")->capture_default_str()
       ->check(CLI::PositiveNumber);
   fit_cmd->add_flag("--scale", fit.scale, "Also fit a scale on the nominal concentrations");
-  fit_cmd->add_option("--seeds", fit.seeds, "Seeds per model point")->capture_default_str()->check(CLI::Range(1, 1000));
+  fit_cmd->add_option("--seeds", fit.seeds, "Seeds per model point to start with (more are added for --target-se)")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
+  fit_cmd->add_option("--max-seeds", fit.max_seeds, "The most seeds --target-se may take")->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  fit_cmd->add_option("--target-se", fit.target_se, "Model SE / data SE to reach at every point (0: off)")
+      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  fit_cmd->add_flag("!--no-mirror", fit.mirror, "Do not also run every seed with the gradient mirrored");
+  fit_cmd->add_option("--param", fit.params,
+                      "NAME or NAME=LO:HI, repeatable: a parameter to fit (gain, kd, scale, or a signalling parameter) "
+                      "and its coarse range");
+  fit_cmd->add_option("--correct", fit.corrections,
+                      "STEEPNESS=FACTOR, repeatable: model that steepness's rows at concentration x FACTOR");
+  fit_cmd->add_option("--bias-metric", fit.bias_metric, "The assay metric a bias column is compared with")
+      ->check(CLI::IsMember({"bias", "outgrowth_bias", "guidance_ratio"}));
   fit_cmd->add_option("--gain-min", fit.gain_lo, "Coarse grid: smallest gain")->capture_default_str()
       ->check(CLI::PositiveNumber);
   fit_cmd->add_option("--gain-max", fit.gain_hi, "Coarse grid: largest gain")->capture_default_str()

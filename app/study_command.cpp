@@ -230,8 +230,58 @@ int cmd_sweep(const SweepArgs& args) {
 
 namespace axg::app {
 
+namespace {
+
+// "NAME" or "NAME=LO:HI".
+fit::Parameter parse_param(const std::string& text) {
+  fit::Parameter p;
+  const std::size_t eq = text.find('=');
+  p.name = text.substr(0, eq);
+  if (eq == std::string::npos) return p;
+  const std::string range = text.substr(eq + 1);
+  const std::size_t colon = range.find(':');
+  auto number = [&](const std::string& v) {
+    std::size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(v, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != v.size() || v.empty() || !std::isfinite(x))
+      throw InputError(fmt::format("fit: --param {}: \"{}\" is not a finite number (NAME=LO:HI)", text, v));
+    return x;
+  };
+  if (colon == std::string::npos) throw InputError(fmt::format("fit: --param {}: must be NAME or NAME=LO:HI", text));
+  p.lo = number(range.substr(0, colon));
+  p.hi = number(range.substr(colon + 1));
+  if (!(p.lo > 0) || !(p.hi > p.lo))
+    throw InputError(fmt::format("fit: --param {}: LO and HI must be > 0 with LO below HI", text));
+  return p;
+}
+
+std::pair<double, double> parse_correction(const std::string& text) {
+  const std::size_t eq = text.find('=');
+  double s = -1, f = -1;
+  try {
+    if (eq != std::string::npos) {
+      std::size_t u1 = 0, u2 = 0;
+      s = std::stod(text.substr(0, eq), &u1);
+      f = std::stod(text.substr(eq + 1), &u2);
+      if (u1 != eq || u2 != text.size() - eq - 1) s = -1;
+    }
+  } catch (const std::exception&) {
+    s = -1;
+  }
+  if (!(s >= 0) || !(f > 0) || !std::isfinite(s) || !std::isfinite(f))
+    throw InputError(fmt::format("fit: --correct {}: must be STEEPNESS=FACTOR with STEEPNESS >= 0 and FACTOR > 0", text));
+  return {s, f};
+}
+
+}  // namespace
+
 int cmd_fit(const FitArgs& args) {
-  const auto data = fit::load_data(args.data_path);
+  const fit::Data data = fit::load_data(args.data_path);
   const ParseResult parsed = load_scene_file(args.scene_path);
   std::ifstream in(args.scene_path);
   std::stringstream ss;
@@ -242,6 +292,12 @@ int cmd_fit(const FitArgs& args) {
   o.fit_scale = args.scale;
   o.seeds.clear();
   for (int k = 1; k <= args.seeds; ++k) o.seeds.push_back(static_cast<std::uint64_t>(k));
+  o.max_seeds = static_cast<std::size_t>(args.max_seeds);
+  o.target_se_ratio = args.target_se;
+  o.mirror = args.mirror;
+  for (const auto& p : args.params) o.parameters.push_back(parse_param(p));
+  for (const auto& c : args.corrections) o.corrections.push_back(parse_correction(c));
+  o.bias_metric = args.bias_metric;
   o.gain_lo = args.gain_lo;
   o.gain_hi = args.gain_hi;
   o.coarse = args.coarse;
@@ -249,61 +305,110 @@ int cmd_fit(const FitArgs& args) {
   o.run.make_engine = engine_factory(args.backend);
   const auto t0 = std::chrono::steady_clock::now();
   const fit::Result r = fit::fit(base, args.scene_path, data, o);
+  const double fit_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  // The fitted curve: a dense concentration grid for each steepness of the data.
+  // The fitted curve: a dense concentration grid for each steepness of the data (model
+  // concentrations, corrected as the points are).
   std::vector<double> steep;
   double cmin = HUGE_VAL, cmax = 0;
-  for (const auto& d : data) {
+  auto factor = [&](double s) {
+    for (const auto& [cs, f] : o.corrections)
+      if (std::fabs(cs - s) <= 1e-9 * std::max(1.0, std::fabs(cs))) return f;
+    return 1.0;
+  };
+  for (const auto& d : data.points) {
     if (std::find(steep.begin(), steep.end(), d.steepness) == steep.end()) steep.push_back(d.steepness);
-    cmin = std::min(cmin, d.concentration);
-    cmax = std::max(cmax, d.concentration);
+    cmin = std::min(cmin, d.concentration * factor(d.steepness));
+    cmax = std::max(cmax, d.concentration * factor(d.steepness));
   }
   std::vector<std::pair<double, double>> curve_pts;
   const int nc = 13;
   for (double s : steep)
     for (int k = 0; k < nc; ++k)
       curve_pts.emplace_back(core::pm::exp(core::pm::log(cmin / 3) + (core::pm::log(cmax * 3) - core::pm::log(cmin / 3)) * k / (nc - 1)), s);
-  std::vector<double> cm, cs;
-  fit::predict(base, curve_pts, r.best, o, cm, cs);
+  std::vector<double> cm[fit::kMeasures], cs[fit::kMeasures];
+  fit::Options po = o;
+  po.seeds = r.seeds;
+  fit::predict(base, curve_pts, r.parameters, r.best, po, cm, cs);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   prepare_output_dir(args.out_dir);
   const fs::path dir(args.out_dir);
   auto num = [](double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); };
-  std::string grid = "evaluation,gain,kd,scale,chi2\n";
-  for (std::size_t e = 0; e < r.evaluations.size(); ++e)
-    grid += fmt::format("{},{},{},{},{}\n", e, r.evaluations[e].p.gain, r.evaluations[e].p.kd, r.evaluations[e].p.scale,
-                        num(r.evaluations[e].chi2));
-  std::string pts = "line,concentration,steepness,bias,se,count,model,model_se,residual,model_min,model_max,reachable\n";
+  auto value_of = [&](const char* name, double otherwise) {
+    for (std::size_t k = 0; k < r.parameters.size(); ++k)
+      if (r.parameters[k].name == name) return r.best[k];
+    return otherwise;
+  };
+  std::string grid = "evaluation";
+  for (const auto& p : r.parameters) grid += "," + p.name;
+  grid += ",chi2\n";
+  for (std::size_t e = 0; e < r.evaluations.size(); ++e) {
+    grid += fmt::format("{}", e);
+    for (double v : r.evaluations[e].p) grid += fmt::format(",{}", v);
+    grid += fmt::format(",{}\n", num(r.evaluations[e].chi2));
+  }
+  std::string pts =
+      "line,concentration,steepness,measure,value,se,count,model,model_se,residual,model_min,model_max,reachable,"
+      "model_concentration\n";
   std::size_t unreachable = 0;
   json unreach = json::array();
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    const auto& d = data[i];
-    pts += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", d.line, d.concentration, d.steepness, d.bias, d.se,
-                       d.count, num(r.model[i]), num(r.model_se[i]), num((d.bias - r.model[i]) / d.se),
-                       num(r.model_min[i]), num(r.model_max[i]), r.reachable[i] ? "yes" : "no");
-    if (!r.reachable[i]) {
+  for (std::size_t q = 0; q < r.residuals.size(); ++q) {
+    const auto [i, m] = r.residuals[q];
+    const auto& d = data.points[i];
+    const double v = d.value[m], se = d.se[m];
+    pts += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", d.line, d.concentration, d.steepness,
+                       fit::measure_name(m), v, se, d.count, num(r.model[q]), num(r.model_se[q]),
+                       num((v - r.model[q]) / se), num(r.model_min[q]), num(r.model_max[q]),
+                       r.reachable[q] ? "yes" : "no", d.concentration * factor(d.steepness));
+    if (!r.reachable[q]) {
       ++unreachable;
       unreach.push_back({{"line", d.line}, {"concentration", d.concentration}, {"steepness", d.steepness},
-                         {"bias", d.bias}, {"se", d.se}, {"model_min", r.model_min[i]}, {"model_max", r.model_max[i]}});
+                         {"measure", fit::measure_name(m)}, {fit::measure_name(m), v}, {"se", se},
+                         {"model_min", r.model_min[q]}, {"model_max", r.model_max[q]}});
     }
   }
-  std::string curve = "concentration,steepness,model,model_se\n";
-  for (std::size_t k = 0; k < curve_pts.size(); ++k)
-    curve += fmt::format("{},{},{},{}\n", curve_pts[k].first, curve_pts[k].second, num(cm[k]), num(cs[k]));
+  std::string curve = "concentration,steepness,measure,model,model_se\n";
+  for (int m = 0; m < fit::kMeasures; ++m)
+    for (std::size_t k = 0; k < curve_pts.size(); ++k)
+      curve += fmt::format("{},{},{},{},{}\n", curve_pts[k].first, curve_pts[k].second, fit::measure_name(m),
+                           num(cm[m][k]), num(cs[m][k]));
+  json params = json::object();
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+    const auto& iv = r.intervals[k];
+    params[r.parameters[k].name] = {{"best", r.best[k]},          {"interval_low", iv.lo},
+                                    {"interval_high", iv.hi},     {"open_low", iv.open_low},
+                                    {"open_high", iv.open_high},  {"coarse_range", {r.parameters[k].lo, r.parameters[k].hi}}};
+  }
+  json measured = json::array();
+  for (int m = 0; m < fit::kMeasures; ++m)
+    if (data.measured[m]) measured.push_back(fit::measure_name(m));
+  json corrections = json::array();
+  for (const auto& [s, f] : o.corrections) corrections.push_back({s, f});
   json summary = {{"data", args.data_path},
                   {"scene", args.scene_path},
-                  {"gain", r.best.gain},
-                  {"kd", r.best.kd},
-                  {"concentration_scale", r.best.scale},
+                  {"measured", measured},
+                  {"bias_metric", r.bias_metric},
+                  {"parameters", params},
+                  {"interval", fmt::format("profile likelihood, chi2 <= min + {:.4g} (3.84 x max(1, chi2/dof))",
+                                           r.interval_delta)},
+                  {"gain", value_of("gain", parsed.scene.guidance.gain)},
+                  {"kd", value_of("kd", parsed.scene.cues.sources.empty() ? 0.0 : parsed.scene.cues.sources[0].kd)},
+                  {"concentration_scale", value_of("scale", 1.0)},
                   {"scale_fitted", args.scale},
+                  {"corrections", corrections},
                   {"chi2", r.chi2},
                   {"dof", r.dof},
                   {"chi2_per_dof", r.chi2_per_dof},
                   {"max_chi2_per_dof", args.max_chi2},
-                  {"seeds", args.seeds},
+                  {"seeds", r.seeds.size()},
+                  {"mirror", o.mirror},
+                  {"target_se_ratio", o.target_se_ratio},
+                  {"model_se_ratio_max", r.se_ratio_max},
                   {"evaluations", r.evaluations.size()},
                   {"runs", r.runs},
+                  {"fit_seconds", fit_wall},
+                  {"runs_per_second", fit_wall > 0 ? static_cast<double>(r.runs) / fit_wall : 0.0},
                   {"unreachable", unreach},
                   {"units", parsed.scene.units.describe()}};
   for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
@@ -315,18 +420,33 @@ int cmd_fit(const FitArgs& args) {
     if (std::system(fmt::format("'{}' '{}' '{}' >/dev/null 2>&1", python, script.string(), dir.string()).c_str()) != 0)
       std::fprintf(stderr, "axonguide: fit: %s failed; fit.png not drawn\n", script.string().c_str());
   }
-  fmt::print("fit       {} data points from {}; base scene {}\n", data.size(), args.data_path, args.scene_path);
-  fmt::print("          best gain {:.4g}, K_d {:.4g} {}{}\n", r.best.gain, r.best.kd, parsed.scene.units.concentration,
-             args.scale ? fmt::format(", concentration scale {:.4g}", r.best.scale) : std::string());
+  std::string what;
+  for (int m = 0; m < fit::kMeasures; ++m)
+    if (data.measured[m]) what += (what.empty() ? "" : " and ") + std::string(fit::measure_name(m));
+  fmt::print("fit       {} data points ({}) from {}; base scene {}\n", data.points.size(), what, args.data_path,
+             args.scene_path);
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+    const auto& iv = r.intervals[k];
+    fmt::print("          {} = {:.4g}, 95% profile interval {}{:.4g} to {:.4g}{}\n", r.parameters[k].name, r.best[k],
+               iv.open_low ? "<=" : "", iv.lo, iv.hi, iv.open_high ? " (open: the searched range's edge)" : "");
+  }
   fmt::print("          chi2 {:.3f} on {} degrees of freedom: chi2/dof = {:.3f} (threshold {})\n", r.chi2, r.dof,
              r.chi2_per_dof, args.max_chi2);
-  fmt::print("          {} parameter sets, {} runs, {:.1f} s; {} data point{} the model cannot reach\n",
-             r.evaluations.size(), r.runs, wall, unreachable, unreachable == 1 ? "" : "s");
-  for (const auto& u : unreach)
-    fmt::print("          line {}: bias {} ± {} at {} {}, steepness {}: the model gives {:.4f} to {:.4f}\n",
-               u["line"].get<std::size_t>(), u["bias"].get<double>(), u["se"].get<double>(),
+  fmt::print("          {} seeds{}; model SE / data SE at most {:.3f} (target {:.3f})\n", r.seeds.size(),
+             o.mirror ? ", each with its mirror image" : "", r.se_ratio_max, o.target_se_ratio);
+  fmt::print("          {} parameter sets, {} runs, {:.1f} s ({:.1f} runs/s); {} value{} the model cannot reach\n",
+             r.evaluations.size(), r.runs, wall, fit_wall > 0 ? r.runs / fit_wall : 0.0, unreachable,
+             unreachable == 1 ? "" : "s");
+  for (const auto& u : unreach) {
+    const std::string m = u["measure"].get<std::string>();
+    fmt::print("          line {}: {} {} ± {} at {} {}, steepness {}: the model gives {:.4g} to {:.4g}\n",
+               u["line"].get<std::size_t>(), m, u[m].get<double>(), u["se"].get<double>(),
                u["concentration"].get<double>(), parsed.scene.units.concentration, u["steepness"].get<double>(),
                u["model_min"].get<double>(), u["model_max"].get<double>());
+  }
+  if (o.target_se_ratio > 0 && r.se_ratio_max > o.target_se_ratio)
+    fmt::print("          warning: the model SE is above {:.3f} x the data SE at some point: raise --max-seeds\n",
+               o.target_se_ratio);
   fmt::print("outputs   {}/fit.json, fit_points.csv, fit_grid.csv, fit_curve.csv{}\n", args.out_dir,
              python.empty() ? "" : ", fit.png");
   if (r.chi2_per_dof > args.max_chi2) {

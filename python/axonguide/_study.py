@@ -124,11 +124,13 @@ def sweep(spec, out=None, threads=None, backend="reference"):
 
 
 class FitResult:
-    """The fit of `axonguide fit` (docs/methods.md §12.3): gain, kd, scale (1 unless fitted),
-    chi2, dof, chi2_per_dof, runs; per data point model, model_se, model_min, model_max,
-    reachable (within 2 se of the range the model produced); evaluations (gain, kd, scale,
-    chi2 per parameter set, and model, model_se per set and point, in the order evaluated);
-    data (the points read: concentration, steepness, bias, se, count, line)."""
+    """The fit of `axonguide fit` (docs/methods.md §12.3): parameters (names), best and
+    intervals (name -> value; name -> (lo, hi, open_low, open_high), 95 % profile
+    likelihood), gain, kd, scale (the scene's where not fitted), chi2, dof, chi2_per_dof,
+    runs, seeds, model_se_ratio_max; per residual (a data point's measure: point, measure)
+    model, model_se, model_min, model_max, reachable (within 2 se of the range the model
+    produced); evaluations (each parameter's values and chi2 per set, and model, model_se
+    per set and residual, in the order evaluated); data (the points read)."""
 
     def __init__(self, d):
         self.__dict__.update(d)
@@ -190,12 +192,16 @@ def _base_text(base):
 
 
 def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0, kd_min=None, kd_max=None,
-        grid=7, refine=2, threads=None, backend="reference"):
+        grid=7, refine=2, threads=None, backend="reference", mirror=True, target_se=1.0 / 3.0, max_seeds=64,
+        params=None, corrections=None, bias_metric=""):
     """`axonguide fit DATA --scene BASE` (docs/methods.md §12.3): fits the gain and K_d (and
     with scale=True a scale on the nominal concentrations) to measured directional bias.
     data: a CSV path (columns concentration, steepness, bias, se, count), a dict of those
     columns, or rows. seeds: a count (seeds 1..N, as --seeds) or a list. grid and refine are
     --grid and --refine; kd_min/kd_max bound the coarse K_d grid (None: from the data).
+    mirror, target_se, max_seeds, bias_metric: --no-mirror, --target-se, --max-seeds,
+    --bias-metric; params: names or (name, lo, hi) tuples (--param); corrections: a dict
+    {steepness: factor} (--correct).
     Returns a FitResult. The GIL is released while the model runs."""
     base, origin = _base_text(base_scene)
     text, data_origin = _data_text(data)
@@ -207,7 +213,9 @@ def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0
         seed_list = [int(s) for s in seeds]
     d = _core.fit(base, origin, text, data_origin, check_threads(threads), seed_list, bool(scale), float(gain_min),
                   float(gain_max), float(kd_min or 0.0), float(kd_max or 0.0), int(grid), int(refine),
-                  check_backend(backend))
+                  check_backend(backend), bool(mirror), float(target_se), int(max_seeds),
+                  [(p, 0.0, 0.0) if isinstance(p, str) else (str(p[0]), float(p[1]), float(p[2])) for p in (params or [])],
+                  [(float(s), float(f)) for s, f in (corrections or {}).items()], str(bias_metric))
     d["evaluations"] = dict(d["evaluations"])
     d["data"] = dict(d["data"])
     return FitResult(d)

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -184,7 +185,9 @@ py::dict assay_metrics(const RunHandle& h) {
 py::dict fit_run(const std::string& base_text, const std::string& origin, const std::string& data_text,
                  const std::string& data_origin, int threads, const std::vector<std::uint64_t>& seeds, bool scale,
                  double gain_lo, double gain_hi, double kd_lo, double kd_hi, int grid, int refine,
-                 const std::string& backend) {
+                 const std::string& backend, bool mirror, double target_se, std::size_t max_seeds,
+                 const std::vector<std::tuple<std::string, double, double>>& params,
+                 const std::vector<std::pair<double, double>>& corrections, const std::string& bias_metric) {
   // The command line's limits (axonguide fit --seeds, --gain-min/max, --grid, --refine).
   if (seeds.empty() || seeds.size() > 1000) throw InputError("fit: seeds must be a count in [1, 1000] or a list of 1 to 1000 seeds");
   if (!(gain_lo > 0) || !(gain_hi > 0) || !(gain_lo < gain_hi))
@@ -193,9 +196,11 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
     throw InputError(fmt::format("fit: kd_min = {}, kd_max = {}: must be > 0 with kd_min below kd_max (0: from the data)", kd_lo, kd_hi));
   if (grid < 2 || grid > 50) throw InputError(fmt::format("fit: grid = {}: must be 2 to 50", grid));
   if (refine < 0 || refine > 10) throw InputError(fmt::format("fit: refine = {}: must be 0 to 10", refine));
+  if (!(target_se >= 0) || !(target_se <= 10)) throw InputError(fmt::format("fit: target_se = {}: must be 0 to 10", target_se));
+  if (max_seeds < 1 || max_seeds > 1000) throw InputError(fmt::format("fit: max_seeds = {}: must be 1 to 1000", max_seeds));
   scene_from_text(base_text, origin);  // SceneError for a bad base scene
   const json base = parse_json_strict(base_text, origin);
-  const std::vector<fit::DataPoint> data = fit::parse_data(data_text, data_origin);
+  const fit::Data data = fit::parse_data(data_text, data_origin);
   fit::Options o;
   o.threads = checked_threads(threads);
   o.seeds = seeds;
@@ -206,20 +211,46 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
   o.kd_hi = kd_hi;
   o.coarse = grid;
   o.refine_rounds = refine;
+  o.mirror = mirror;
+  o.target_se_ratio = target_se;
+  o.max_seeds = max_seeds;
+  for (const auto& [name, lo, hi] : params) o.parameters.push_back({name, lo, hi});
+  o.corrections = corrections;
+  o.bias_metric = bias_metric;
   o.run = run_options(backend);
   fit::Result r;
   {
     py::gil_scoped_release release;
     r = fit::fit(base, origin, data, o);
   }
+  const Scene scene = parse_scene(base_text, origin).scene;
+  auto value_of = [&](const char* name, double otherwise) {
+    for (std::size_t k = 0; k < r.parameters.size(); ++k)
+      if (r.parameters[k].name == name) return r.best[k];
+    return otherwise;
+  };
   py::dict d;
-  d["gain"] = r.best.gain;
-  d["kd"] = r.best.kd;
-  d["scale"] = r.best.scale;
+  d["gain"] = value_of("gain", scene.guidance.gain);
+  d["kd"] = value_of("kd", scene.cues.sources.empty() ? 0.0 : scene.cues.sources[0].kd);
+  d["scale"] = value_of("scale", 1.0);
+  py::dict best, intervals;
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+    names.push_back(r.parameters[k].name);
+    best[py::str(r.parameters[k].name)] = r.best[k];
+    intervals[py::str(r.parameters[k].name)] = py::make_tuple(r.intervals[k].lo, r.intervals[k].hi,
+                                                             r.intervals[k].open_low, r.intervals[k].open_high);
+  }
+  d["parameters"] = names;
+  d["best"] = best;
+  d["intervals"] = intervals;
   d["chi2"] = r.chi2;
   d["dof"] = r.dof;
   d["chi2_per_dof"] = r.chi2_per_dof;
   d["runs"] = r.runs;
+  d["seeds"] = r.seeds;
+  d["model_se_ratio_max"] = r.se_ratio_max;
+  d["bias_metric"] = r.bias_metric;
   d["model"] = to_array(r.model);
   d["model_se"] = to_array(r.model_se);
   d["model_min"] = to_array(r.model_min);
@@ -227,37 +258,50 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
   py::array_t<bool> reach(static_cast<py::ssize_t>(r.reachable.size()));
   for (std::size_t i = 0; i < r.reachable.size(); ++i) reach.mutable_data()[i] = r.reachable[i];
   d["reachable"] = reach;
-  const std::size_t E = r.evaluations.size(), N = data.size();
-  std::vector<double> g(E), k(E), s(E), c(E);
+  std::vector<std::string> measure;
+  std::vector<std::uint64_t> point;
+  for (const auto& q : r.residuals) measure.push_back(fit::measure_name(q.measure)), point.push_back(q.point);
+  d["measure"] = measure;
+  d["point"] = to_array(point);
+  const std::size_t E = r.evaluations.size(), N = r.residuals.size();
+  std::vector<double> c(E);
   py::array_t<double> em({static_cast<py::ssize_t>(E), static_cast<py::ssize_t>(N)}),
       es({static_cast<py::ssize_t>(E), static_cast<py::ssize_t>(N)});
+  py::dict ev;
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+    std::vector<double> v(E);
+    for (std::size_t e = 0; e < E; ++e) v[e] = r.evaluations[e].p[k];
+    ev[py::str(r.parameters[k].name)] = to_array(v);
+  }
   for (std::size_t e = 0; e < E; ++e) {
-    const auto& ev = r.evaluations[e];
-    g[e] = ev.p.gain, k[e] = ev.p.kd, s[e] = ev.p.scale, c[e] = ev.chi2;
+    const auto& x = r.evaluations[e];
+    c[e] = x.chi2;
     for (std::size_t i = 0; i < N; ++i) {
-      em.mutable_data()[e * N + i] = ev.model[i];
-      es.mutable_data()[e * N + i] = ev.model_se[i];
+      em.mutable_data()[e * N + i] = x.model[i];
+      es.mutable_data()[e * N + i] = x.model_se[i];
     }
   }
-  py::dict ev;
-  ev["gain"] = to_array(g);
-  ev["kd"] = to_array(k);
-  ev["scale"] = to_array(s);
   ev["chi2"] = to_array(c);
   ev["model"] = em;
   ev["model_se"] = es;
   d["evaluations"] = ev;
-  std::vector<double> conc(N), steep(N), bias(N), se(N);
-  std::vector<std::uint64_t> count(N), line(N);
-  for (std::size_t i = 0; i < N; ++i) {
-    conc[i] = data[i].concentration, steep[i] = data[i].steepness, bias[i] = data[i].bias, se[i] = data[i].se;
-    count[i] = data[i].count, line[i] = data[i].line;
+  const std::size_t P = data.points.size();
+  std::vector<double> conc(P), steep(P);
+  std::vector<std::uint64_t> count(P), line(P);
+  for (std::size_t i = 0; i < P; ++i) {
+    conc[i] = data.points[i].concentration, steep[i] = data.points[i].steepness;
+    count[i] = data.points[i].count, line[i] = data.points[i].line;
   }
   py::dict dd;
   dd["concentration"] = to_array(conc);
   dd["steepness"] = to_array(steep);
-  dd["bias"] = to_array(bias);
-  dd["se"] = to_array(se);
+  for (int m = 0; m < fit::kMeasures; ++m) {
+    if (!data.measured[m]) continue;
+    std::vector<double> v(P), se(P);
+    for (std::size_t i = 0; i < P; ++i) v[i] = data.points[i].value[m], se[i] = data.points[i].se[m];
+    dd[fit::measure_name(m)] = to_array(v);
+    dd[data.measure_count() == 1 ? "se" : (std::string(fit::measure_name(m)) + "_se").c_str()] = to_array(se);
+  }
   dd["count"] = to_array(count);
   dd["line"] = to_array(line);
   d["data"] = dd;
@@ -298,7 +342,9 @@ void bind_study(py::module_& m) {
   m.def("metric_names", [] { return assay::scalar_metric_names(); });
   m.def("fit", &fit_run, py::arg("base_text"), py::arg("origin"), py::arg("data_text"), py::arg("data_origin"),
         py::arg("threads"), py::arg("seeds"), py::arg("scale"), py::arg("gain_min"), py::arg("gain_max"),
-        py::arg("kd_min"), py::arg("kd_max"), py::arg("grid"), py::arg("refine"), py::arg("backend"));
+        py::arg("kd_min"), py::arg("kd_max"), py::arg("grid"), py::arg("refine"), py::arg("backend"),
+        py::arg("mirror"), py::arg("target_se"), py::arg("max_seeds"), py::arg("params"), py::arg("corrections"),
+        py::arg("bias_metric"));
 }
 
 }  // namespace axg::py_api

@@ -26,6 +26,7 @@ inline constexpr int kTurningBins = 36;  // turning angles: 10° bins from -180�
 
 struct Geometry {
   core::Vec3 center;  // of the explant
+  core::Vec3 axis;    // unit gradient axis (3D)
   core::Vec3 up;      // unit gradient axis in the imaging plane (θ = 90°)
   core::Vec3 across;  // unit, θ = 0°
   std::uint64_t first = 0, end = 0;  // explant neuron ids [first, end)
@@ -65,6 +66,16 @@ struct Metrics {
   // source (NaN without such a source): where the network's axons went.
   double near_attractant_fraction = 0;
   double near_repellent_fraction = 0;
+  // Radial outgrowth beyond the cell body, in 3D (Bicknell et al. 2018's measure, for an
+  // explant whose somas sit on its boundary): o_i = |tip_i - c| - |soma_i - c| - r_s for every
+  // explant axon that grew, and u_i = g . (tip_i - c) / |tip_i - c| the cosine of its
+  // direction to the gradient axis. The least-squares line o = R0 + R1 u gives
+  // outgrowth = R0 (the mean over directions, with the explant's random asymmetry,
+  // mean u != 0, removed) and outgrowth_bias = R1 / R0: for R = R0 (1 + b cos) it is b, as
+  // the first sine coefficient over the mean is for a disc, R(θ) = R0 (1 + b sin θ).
+  // SEs from the regression's residuals (delta method for the ratio). NaN below 3 axons.
+  double outgrowth = 0, outgrowth_se = 0;
+  double outgrowth_bias = 0, outgrowth_bias_se = 0;
 };
 
 // soma comes from the placement (the initial heading is heading_draw's); cues from

@@ -127,7 +127,7 @@ struct Scene {
       std::uint32_t substeps = 1;  // ROS2 steps per growth step
       // Values given in the scene, in Table 1's units (per minute, per nM per minute, um
       // per minute, counts), by kSignalTable's index; nullopt: Table 1's (or derived).
-      std::array<std::optional<double>, 32> given{};
+      std::array<std::optional<double>, 33> given{};
     } signalling;
   } axons;
 

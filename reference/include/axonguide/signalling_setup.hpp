@@ -34,7 +34,7 @@ struct SignalParameter {
   const char* meaning;
 };
 
-inline constexpr std::size_t kSignalParameters = 32;
+inline constexpr std::size_t kSignalParameters = 33;
 extern const std::array<SignalParameter, kSignalParameters> kSignalTable;
 
 // The canonical unit of a dimension ("/min", "/nM/min", "um/min"; "" for counts).

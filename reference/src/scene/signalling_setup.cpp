@@ -48,6 +48,8 @@ const std::array<SignalParameter, kSignalParameters> kSignalTable{{
     {"a1", SignalDim::kRate, 5e-6, false, true, "activation of G to Gs by A, per molecule"},
     {"b1", SignalDim::kRate, 2.5e-4, false, true, "deactivation of Gs by Ic, per molecule"},
     {"b0", SignalDim::kRate, 0.01, false, false, "decay of G and Gs"},
+    {"a1b", SignalDim::kRate, 0, false, true,
+     "NGF-independent activation of G to Gs (not in the paper: 0 is its model; docs/methods.md §2.10)"},
     {"r0", SignalDim::kSpeed, 0.05, false, true, "basal extension rate"},
     {"kext", SignalDim::kSpeed, 0.02, false, true, "extension rate per molecule of Gs"},
 }};
@@ -175,12 +177,12 @@ core::SignallingParams signalling_params(const Scene& scene) {
   q.a5 = is_given("a5") ? get("a5") : q.a3 / q.At * q.kdegA / q.kr;
   q.b3 = is_given("b3") ? get("b3") : q.b2 * ((q.kmA / q.kpA) / (q.kmI / q.kpI)) * q.a5 / q.a4;
   q.Ft = get("Ft"), q.a6 = get("a6"), q.b6 = get("b6"), q.kX = get("kX"), q.kY = get("kY");
-  q.a0 = get("a0"), q.aF = get("aF"), q.a1 = get("a1"), q.b1 = get("b1"), q.b0 = get("b0");
+  q.a0 = get("a0"), q.aF = get("aF"), q.a1 = get("a1"), q.b1 = get("b1"), q.b0 = get("b0"), q.a1b = get("a1b");
   q.r0 = get("r0"), q.kext = get("kext");
   // To the scene's units: per minute -> per time unit, per nM -> per concentration unit.
   const double t = minutes_per(scene.units.time), c = nanomolar_per(scene.units.concentration);
   for (double* r : {&q.kmA, &q.kmI, &q.kr, &q.kdegA, &q.ka, &q.kdegI, &q.a2, &q.b2, &q.a3, &q.b3, &q.a4, &q.b4,
-                    &q.a5, &q.b5, &q.g1, &q.g2, &q.a6, &q.b6, &q.a0, &q.aF, &q.a1, &q.b1, &q.b0, &q.r0, &q.kext})
+                    &q.a5, &q.b5, &q.g1, &q.g2, &q.a6, &q.b6, &q.a0, &q.aF, &q.a1, &q.b1, &q.b0, &q.a1b, &q.r0, &q.kext})
     *r = *r * t;
   q.kpA = q.kpA * c * t;
   q.kpI = q.kpI * c * t;

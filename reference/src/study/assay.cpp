@@ -44,6 +44,41 @@ double ratio_se(const std::vector<double>& a, const std::vector<double>& b, doub
   return std::sqrt(ss / static_cast<double>(n - 1) / static_cast<double>(n)) / mb;
 }
 
+// outgrowth and outgrowth_bias from the least-squares line o = R0 + R1 u (assay.hpp).
+void radial_outgrowth(const std::vector<double>& o, const std::vector<double>& u, Metrics& m) {
+  const std::size_t n = o.size();
+  m.outgrowth = m.outgrowth_se = m.outgrowth_bias = m.outgrowth_bias_se = kNaN;
+  if (n < 3) return;
+  const double nn = static_cast<double>(n);
+  double so = 0, su = 0;
+  for (std::size_t i = 0; i < n; ++i) so += o[i], su += u[i];
+  const double mo = so / nn, mu = su / nn;
+  double suu = 0, suo = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    suu += (u[i] - mu) * (u[i] - mu);
+    suo += (u[i] - mu) * (o[i] - mo);
+  }
+  const double r1 = suu > 0 ? suo / suu : 0.0;
+  const double r0 = mo - r1 * mu;
+  double ss = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double e = o[i] - r0 - r1 * u[i];
+    ss += e * e;
+  }
+  const double s2 = ss / (nn - 2.0);
+  // Var(R0) = s2 (1/n + mu^2 / Suu), Var(R1) = s2 / Suu, Cov(R0, R1) = -mu s2 / Suu.
+  const double v1 = suu > 0 ? s2 / suu : kNaN;
+  const double v0 = s2 / nn + mu * mu * (suu > 0 ? s2 / suu : 0.0);
+  const double c01 = -mu * (suu > 0 ? s2 / suu : 0.0);
+  m.outgrowth = r0;
+  m.outgrowth_se = std::sqrt(v0);
+  if (r0 != 0) {
+    const double b = r1 / r0;
+    m.outgrowth_bias = b;
+    m.outgrowth_bias_se = std::sqrt((v1 - 2.0 * b * c01 + b * b * v0) / (r0 * r0));
+  }
+}
+
 }  // namespace
 
 std::vector<core::CueParams> reference_cues(const Scene& scene) {
@@ -73,6 +108,7 @@ Geometry explant_geometry(const Scene& scene, const std::vector<core::CueParams>
   }
   // The microscope looks along z unless the gradient does, then along x.
   const Vec3 view = std::fabs(axis.z) < 0.9 ? Vec3{0.0, 0.0, 1.0} : Vec3{1.0, 0.0, 0.0};
+  g.axis = axis;
   g.up = unit(axis - view * core::dot(axis, view));
   g.across = unit(core::cross(g.up, view));
   return g;
@@ -85,7 +121,7 @@ Metrics measure(const Scene& scene, const std::vector<Vec3>& soma, const NeuronS
   std::array<double, kAngleBins> sin_centre{};
   for (int j = 0; j < kAngleBins; ++j) sin_centre[j] = core::pm::sin((j + 0.5) * (2.0 * kPi / kAngleBins));
 
-  std::vector<double> rho, rho_sin, rho_sign, turn;
+  std::vector<double> rho, rho_sin, rho_sign, turn, radial, cosine;
   std::uint64_t connected = 0, exited = 0, to_target = 0, explant = 0;
   const auto& pops = scene.neurons.populations;
   for (std::uint64_t i = g.first; i < g.end; ++i) {
@@ -105,6 +141,9 @@ Metrics measure(const Scene& scene, const std::vector<Vec3>& soma, const NeuronS
     rho.push_back(r);
     rho_sin.push_back(2.0 * r * sin_centre[j]);
     rho_sign.push_back(y > 0 ? r : (y < 0 ? -r : 0.0));
+    const double reach = std::sqrt(core::norm2(d));
+    radial.push_back(reach - std::sqrt(core::norm2(soma[i] - g.center)) - scene.neurons.soma_radius);
+    cosine.push_back(reach > 0 ? core::dot(d, g.axis) / reach : 0.0);
 
     // Turning: the signed angle in the plane from the initial heading to the net
     // displacement of the tip, positive toward the gradient.
@@ -141,6 +180,7 @@ Metrics measure(const Scene& scene, const std::vector<Vec3>& soma, const NeuronS
   } else {
     m.turning_se_deg = kNaN;
   }
+  radial_outgrowth(radial, cosine, m);
   const double ne = static_cast<double>(explant);
   m.connected_fraction = ne > 0 ? static_cast<double>(connected) / ne : kNaN;
   m.exited_fraction = ne > 0 ? static_cast<double>(exited) / ne : kNaN;
@@ -180,7 +220,8 @@ const std::vector<std::string>& scalar_metric_names() {
   static const std::vector<std::string> names{
       "axons",          "bias",           "bias_se",          "guidance_ratio", "guidance_ratio_se",
       "mean_outgrowth", "mean_turning_deg", "turning_se_deg", "connected_fraction", "exited_fraction",
-      "target_fraction", "crossing_fraction", "near_attractant_fraction", "near_repellent_fraction"};
+      "target_fraction", "crossing_fraction", "near_attractant_fraction", "near_repellent_fraction",
+      "outgrowth",      "outgrowth_se",   "outgrowth_bias",   "outgrowth_bias_se"};
   return names;
 }
 
@@ -188,7 +229,8 @@ std::vector<std::pair<std::string, double>> scalar_metrics(const Metrics& m) {
   const double values[] = {static_cast<double>(m.axons), m.bias, m.bias_se, m.guidance_ratio,
                            m.guidance_ratio_se, m.mean_outgrowth, m.mean_turning_deg, m.turning_se_deg,
                            m.connected_fraction, m.exited_fraction, m.target_fraction, m.crossing_fraction,
-                           m.near_attractant_fraction, m.near_repellent_fraction};
+                           m.near_attractant_fraction, m.near_repellent_fraction, m.outgrowth, m.outgrowth_se,
+                           m.outgrowth_bias, m.outgrowth_bias_se};
   std::vector<std::pair<std::string, double>> out;
   const auto& names = scalar_metric_names();
   for (std::size_t k = 0; k < names.size(); ++k) out.emplace_back(names[k], values[k]);

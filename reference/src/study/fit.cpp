@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -13,6 +14,7 @@
 #include "axonguide/csv.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/signalling_setup.hpp"
 #include "axonguide/sweep.hpp"
 
 namespace axg::fit {
@@ -21,12 +23,16 @@ using nlohmann::json;
 
 namespace {
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 double log_of(double x) { return core::pm::log(x); }
 double exp_of(double x) { return core::pm::exp(x); }
 
 }  // namespace
 
-std::vector<DataPoint> load_data(const std::string& path) {
+const char* measure_name(int m) { return m == kBias ? "bias" : "outgrowth"; }
+
+Data load_data(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("fit: cannot read {}", path));
   std::stringstream text;
@@ -34,163 +40,432 @@ std::vector<DataPoint> load_data(const std::string& path) {
   return parse_data(text.str(), path);
 }
 
-std::vector<DataPoint> parse_data(const std::string& text, const std::string& path) {
+Data parse_data(const std::string& text, const std::string& path) {
   std::istringstream in(text);
   std::string line;
   std::size_t n = 0;
   std::map<std::string, std::size_t> col;
-  std::vector<DataPoint> out;
-  const char* names[] = {"concentration", "steepness", "bias", "se", "count"};
+  Data out;
+  // Column indices: concentration, steepness, count, then value and se per measure.
+  std::vector<std::pair<std::string, int>> read;  // (column, slot)
+  static const char* kKnown = "concentration, steepness, count, bias, outgrowth, se, bias_se, outgrowth_se";
   while (std::getline(in, line)) {
     ++n;
     const std::string t = trim_cell(line);
     if (t.empty() || t[0] == '#') continue;
     const auto f = split_csv_line(t);
     if (col.empty()) {
-      for (std::size_t k = 0; k < f.size(); ++k) col[f[k]] = k;
-      for (const char* name : names)
+      for (std::size_t k = 0; k < f.size(); ++k) {
+        static const std::vector<std::string> known{"concentration", "steepness", "count", "bias",
+                                                    "outgrowth",     "se",        "bias_se", "outgrowth_se"};
+        if (std::find(known.begin(), known.end(), f[k]) == known.end())
+          throw InputError(fmt::format("fit: {} line {}: unknown column \"{}\" (the columns are {})", path, n, f[k],
+                                       kKnown));
+        if (col.count(f[k])) throw InputError(fmt::format("fit: {} line {}: column \"{}\" twice", path, n, f[k]));
+        col[f[k]] = k;
+      }
+      for (const char* name : {"concentration", "steepness", "count"})
         if (!col.count(name))
           throw InputError(fmt::format(
-              "fit: {} line {}: the header must name the columns concentration, steepness, bias, se, count "
-              "(missing \"{}\")",
+              "fit: {} line {}: the header must name the columns concentration, steepness, count, a measured column "
+              "(bias and/or outgrowth) and its se (missing \"{}\")",
               path, n, name));
+      out.measured[kBias] = col.count("bias") > 0;
+      out.measured[kOutgrowth] = col.count("outgrowth") > 0;
+      if (out.measure_count() == 0)
+        throw InputError(fmt::format(
+            "fit: {} line {}: no measured column: the header must name bias (directional bias) and/or outgrowth "
+            "(radial outgrowth, length units)",
+            path, n));
+      read = {{"concentration", 0}, {"steepness", 1}, {"count", 2}};
+      if (out.measure_count() == 1) {
+        const int m = out.measured[kBias] ? kBias : kOutgrowth;
+        if (!col.count("se"))
+          throw InputError(fmt::format("fit: {} line {}: the header must name the column se (the standard error of {}; "
+                                       "missing \"se\")",
+                                       path, n, measure_name(m)));
+        for (const char* other : {"bias_se", "outgrowth_se"})
+          if (col.count(other))
+            throw InputError(fmt::format("fit: {} line {}: column \"{}\" with one measured column: its SE is \"se\"",
+                                         path, n, other));
+        read.push_back({measure_name(m), 3 + 2 * m});
+        read.push_back({"se", 4 + 2 * m});
+      } else {
+        if (col.count("se"))
+          throw InputError(fmt::format(
+              "fit: {} line {}: column \"se\" is ambiguous with both bias and outgrowth: name bias_se and outgrowth_se",
+              path, n));
+        for (int m = 0; m < kMeasures; ++m) {
+          const std::string se = std::string(measure_name(m)) + "_se";
+          if (!col.count(se))
+            throw InputError(fmt::format("fit: {} line {}: the header must name the column {} (missing \"{}\")", path,
+                                         n, se, se));
+          read.push_back({measure_name(m), 3 + 2 * m});
+          read.push_back({se, 4 + 2 * m});
+        }
+      }
       continue;
     }
     if (f.size() != col.size())
       throw InputError(fmt::format("fit: {} line {}: {} fields, the header has {}", path, n, f.size(), col.size()));
-    double v[5];
-    for (int k = 0; k < 5; ++k) {
-      const std::string& s = f[col[names[k]]];
+    double v[7] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+    for (const auto& [name, slot] : read) {
+      const std::string& s = f[col[name]];
       std::size_t used = 0;
       try {
-        v[k] = std::stod(s, &used);
+        v[slot] = std::stod(s, &used);
       } catch (const std::exception&) {
         used = 0;
       }
-      if (used != s.size() || s.empty() || !std::isfinite(v[k]))
-        throw InputError(fmt::format("fit: {} line {}: {} = \"{}\" is not a finite number", path, n, names[k], s));
+      if (used != s.size() || s.empty() || !std::isfinite(v[slot]))
+        throw InputError(fmt::format("fit: {} line {}: {} = \"{}\" is not a finite number", path, n, name, s));
     }
     if (!(v[0] > 0)) throw InputError(fmt::format("fit: {} line {}: concentration = {} must be > 0", path, n, v[0]));
     if (v[1] < 0) throw InputError(fmt::format("fit: {} line {}: steepness = {} must be >= 0", path, n, v[1]));
-    if (!(v[3] > 0)) throw InputError(fmt::format("fit: {} line {}: se = {} must be > 0", path, n, v[3]));
-    if (v[4] < 1 || v[4] != std::floor(v[4]))
-      throw InputError(fmt::format("fit: {} line {}: count = {} must be an integer >= 1", path, n, v[4]));
-    out.push_back({v[0], v[1], v[2], v[3], static_cast<std::uint64_t>(v[4]), n});
+    if (v[2] < 1 || v[2] != std::floor(v[2]))
+      throw InputError(fmt::format("fit: {} line {}: count = {} must be an integer >= 1", path, n, v[2]));
+    DataPoint p{v[0], v[1], {v[3], v[5]}, {v[4], v[6]}, static_cast<std::uint64_t>(v[2]), n};
+    for (int m = 0; m < kMeasures; ++m)
+      if (out.measured[m] && !(p.se[m] > 0))
+        throw InputError(fmt::format("fit: {} line {}: {} = {} must be > 0", path, n,
+                                     out.measure_count() == 1 ? std::string("se") : std::string(measure_name(m)) + "_se",
+                                     p.se[m]));
+    out.points.push_back(p);
   }
   if (col.empty()) throw InputError(fmt::format("fit: {}: empty (a header and data rows are needed)", path));
-  if (out.size() < 3) throw InputError(fmt::format("fit: {}: {} data rows; at least 3 are needed", path, out.size()));
+  if (out.points.size() < 3)
+    throw InputError(fmt::format("fit: {}: {} data rows; at least 3 are needed", path, out.points.size()));
   return out;
 }
 
 namespace {
 
-sweep::Spec spec_for(const json& base, const std::vector<std::pair<double, double>>& pts, const Params& p,
-                     const Options& o) {
-  sweep::Spec s;
-  s.base = base;
-  s.base["guidance"]["gain"] = p.gain;
-  for (auto& src : s.base["cues"]["sources"]) src["kd"] = p.kd;
-  s.base_origin = "fit";
-  s.zip = true;
-  sweep::Parameter c{"concentration", {"cues.imposed.concentration"}, {}, {}};
-  sweep::Parameter st{"steepness", {"cues.imposed.steepness"}, {}, {}};
-  for (const auto& [conc, steep] : pts) {
-    c.values.push_back(conc * p.scale);
-    st.values.push_back(steep);
+bool signalling_scene(const Scene& s) { return s.signalling(); }
+
+const SignalParameter* signal_parameter(const std::string& name) {
+  for (const auto& p : kSignalTable)
+    if (name == p.name) return &p;
+  return nullptr;
+}
+
+// Writes parameter `name` = v into a copy of the base scene.
+void apply(json& scene, const Parameter& par, double v) {
+  if (par.name == "gain") {
+    scene["guidance"]["gain"] = v;
+  } else if (par.name == "kd") {
+    for (auto& src : scene["cues"]["sources"]) src["kd"] = v;
+  } else if (par.name == "scale") {
+    // Applied to the points' concentrations (spec_for).
+  } else {
+    scene["axons"]["signalling"][par.name] = signal_value_json(v, *signal_parameter(par.name));
   }
-  s.parameters = {c, st};
-  s.seeds = o.seeds;
+}
+
+double scale_of(const std::vector<Parameter>& ps, const Params& p) {
+  for (std::size_t k = 0; k < ps.size(); ++k)
+    if (ps[k].name == "scale") return p[k];
+  return 1.0;
+}
+
+// The sweeps of one parameter set: the points zipped, one spec per mirror image.
+std::vector<sweep::Spec> specs_for(const json& base, const std::vector<std::pair<double, double>>& pts,
+                                   const std::vector<Parameter>& ps, const Params& p,
+                                   const std::vector<std::uint64_t>& seeds, bool mirror) {
+  std::vector<sweep::Spec> out;
+  for (int side = 0; side < (mirror ? 2 : 1); ++side) {
+    sweep::Spec s;
+    s.base = base;
+    for (std::size_t k = 0; k < ps.size(); ++k) apply(s.base, ps[k], p[k]);
+    if (side == 1) {
+      json& d = s.base["cues"]["imposed"]["direction"];
+      if (d.is_null()) d = json::array({1.0, 0.0, 0.0});
+      for (auto& x : d) x = -x.get<double>();
+    }
+    s.base_origin = "fit";
+    s.zip = true;
+    sweep::Parameter c{"concentration", {"cues.imposed.concentration"}, {}, {}};
+    sweep::Parameter st{"steepness", {"cues.imposed.steepness"}, {}, {}};
+    const double scale = scale_of(ps, p);
+    for (const auto& [conc, steep] : pts) {
+      c.values.push_back(conc * scale);
+      st.values.push_back(steep);
+    }
+    s.parameters = {c, st};
+    s.seeds = seeds;
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+struct Evaluated {
+  // [set][measure][point]
+  std::vector<std::array<std::vector<double>, kMeasures>> mean, se;
+};
+
+std::string describe(const std::vector<Parameter>& ps, const Params& p) {
+  std::string s;
+  for (std::size_t k = 0; k < ps.size(); ++k) s += fmt::format("{}{} {}", k ? ", " : "", ps[k].name, p[k]);
   return s;
 }
 
-// Runs every (parameter set, point, seed) of a round in one parallel loop; returns the
-// mean and SE over seeds per parameter set and point.
-void evaluate(const json& base, const std::vector<std::pair<double, double>>& pts, const std::vector<Params>& ps,
-              const Options& o, std::vector<std::vector<double>>& mean, std::vector<std::vector<double>>& se,
-              std::size_t& runs) {
+// Runs every (parameter set, mirror, point, seed) in one parallel loop; returns each
+// measure's mean and SE over seeds per set and point. Per seed, a mirrored pair gives
+// bias (b+ - b-) / 2 and outgrowth (o+ + o-) / 2.
+Evaluated evaluate(const json& base, const std::vector<std::pair<double, double>>& pts,
+                   const std::vector<Parameter>& ps, const std::vector<Params>& sets, const Options& o,
+                   const std::vector<std::uint64_t>& seeds, const std::string& bias_metric, std::size_t& runs) {
   std::vector<sweep::Spec> specs;
-  for (const Params& p : ps) specs.push_back(spec_for(base, pts, p, o));
-  const std::size_t per = pts.size() * o.seeds.size();
+  for (const Params& p : sets)
+    for (auto& s : specs_for(base, pts, ps, p, seeds, o.mirror)) specs.push_back(std::move(s));
+  const std::size_t S = seeds.size(), sides = o.mirror ? 2 : 1, per_side = pts.size() * S;
+  const std::size_t per = per_side * sides;
   const std::vector<sweep::MemberResult> results = sweep::run_in_memory(specs, o.threads, o.run);
   for (std::size_t k = 0; k < results.size(); ++k)
     if (!results[k].ok)
-      throw RunError(fmt::format("fit: the model run at gain {}, K_d {}, scale {} failed: {}", ps[k / per].gain,
-                                 ps[k / per].kd, ps[k / per].scale, results[k].message));
+      throw RunError(fmt::format("fit: the model run at {} failed: {}", describe(ps, sets[k / per]),
+                                 results[k].message));
   runs += results.size();
-  const std::size_t S = o.seeds.size();
-  mean.assign(ps.size(), std::vector<double>(pts.size()));
-  se.assign(ps.size(), std::vector<double>(pts.size()));
-  for (std::size_t e = 0; e < ps.size(); ++e)
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      std::vector<double> bias(S);
-      for (std::size_t j = 0; j < S; ++j) bias[j] = sweep::metric(results[e * per + i * S + j], "bias");
-      const sweep::MeanSe m = sweep::mean_se(bias);
-      // An undefined bias (no axon grew) makes the point, and so the parameter set, undefined.
-      mean[e][i] = m.n == S ? m.mean : std::numeric_limits<double>::quiet_NaN();
-      se[e][i] = S > 1 ? m.se : 0.0;
+  Evaluated ev;
+  ev.mean.resize(sets.size());
+  ev.se.resize(sets.size());
+  const std::string names[kMeasures] = {bias_metric, "outgrowth"};
+  for (std::size_t e = 0; e < sets.size(); ++e)
+    for (int m = 0; m < kMeasures; ++m) {
+      ev.mean[e][m].assign(pts.size(), kNaN);
+      ev.se[e][m].assign(pts.size(), kNaN);
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        std::vector<double> x(S);
+        for (std::size_t j = 0; j < S; ++j) {
+          const double a = sweep::metric(results[e * per + i * S + j], names[m]);
+          if (sides == 1) {
+            x[j] = a;
+          } else {
+            const double b = sweep::metric(results[e * per + per_side + i * S + j], names[m]);
+            x[j] = m == kBias ? 0.5 * (a - b) : 0.5 * (a + b);
+          }
+        }
+        const sweep::MeanSe s = sweep::mean_se(x);
+        // An undefined value (no axon grew) makes the point, and so the set, undefined.
+        ev.mean[e][m][i] = s.n == S ? s.mean : kNaN;
+        ev.se[e][m][i] = S > 1 ? s.se : 0.0;
+      }
     }
+  return ev;
+}
+
+// The profile of parameter k over the evaluations: per distinct value, the lowest chi2;
+// the parabola through the lowest and its neighbours (in log value) cut at min + delta.
+Interval profile_interval(const std::vector<Evaluation>& evs, std::size_t k, double best, double delta) {
+  std::map<double, double> prof;  // log value -> lowest chi2
+  for (const auto& e : evs) {
+    if (!std::isfinite(e.chi2)) continue;
+    const double x = log_of(e.p[k]);
+    auto it = prof.find(x);
+    if (it == prof.end() || e.chi2 < it->second) prof[x] = e.chi2;
+  }
+  Interval r;
+  r.best = best;
+  r.lo = r.hi = best;
+  if (prof.empty()) return r;
+  std::vector<std::pair<double, double>> v(prof.begin(), prof.end());
+  std::size_t m = 0;
+  for (std::size_t i = 1; i < v.size(); ++i)
+    if (v[i].second < v[m].second) m = i;
+  const double cmin = v[m].second, cut = cmin + delta;
+  // Each side: the parabola through (m-1, m, m+1) where both neighbours exist; at an end of
+  // the searched values the interval is open on that side.
+  double a = 0, x0 = v[m].first;
+  if (m > 0 && m + 1 < v.size()) {
+    const double x1 = v[m - 1].first, y1 = v[m - 1].second, x2 = v[m].first, y2 = v[m].second, x3 = v[m + 1].first,
+                 y3 = v[m + 1].second;
+    const double d = (x1 - x2) * (x1 - x3) * (x2 - x3);
+    a = (x3 * (y2 - y1) + x2 * (y1 - y3) + x1 * (y3 - y2)) / d;
+    const double b = (x3 * x3 * (y1 - y2) + x2 * x2 * (y3 - y1) + x1 * x1 * (y2 - y3)) / d;
+    if (a > 0) x0 = -b / (2 * a);
+  }
+  // Without a parabola (the lowest value at an end, or a flat profile), the profile's own
+  // crossings of the cut, linearly interpolated; open where it never rises past it.
+  double lo = v.front().first, hi = v.back().first;
+  r.open_low = r.open_high = true;
+  for (std::size_t i = m; i-- > 0;)
+    if (v[i].second > cut) {
+      lo = v[i].first + (v[i + 1].first - v[i].first) * (cut - v[i + 1].second) / (v[i].second - v[i + 1].second);
+      r.open_low = false;
+      break;
+    }
+  for (std::size_t i = m + 1; i < v.size(); ++i)
+    if (v[i].second > cut) {
+      hi = v[i - 1].first + (v[i].first - v[i - 1].first) * (cut - v[i - 1].second) / (v[i].second - v[i - 1].second);
+      r.open_high = false;
+      break;
+    }
+  if (a > 0) {
+    const double vertex = cmin - a * (x0 - v[m].first) * (x0 - v[m].first);
+    const double h = std::sqrt(std::max(0.0, cut - vertex) / a);
+    lo = std::min(x0 - h, log_of(best));
+    hi = std::max(x0 + h, log_of(best));
+    // Open where the parabola reaches past every searched value and the profile never rose.
+    r.open_low = r.open_low && lo < v.front().first;
+    r.open_high = r.open_high && hi > v.back().first;
+  }
+  r.lo = exp_of(lo);
+  r.hi = exp_of(hi);
+  return r;
 }
 
 }  // namespace
 
-void predict(const json& base, const std::vector<std::pair<double, double>>& pts, const Params& p, const Options& o,
-             std::vector<double>& mean, std::vector<double>& se) {
-  std::vector<std::vector<double>> m, s;
-  std::size_t runs = 0;
-  evaluate(base, pts, {p}, o, m, s, runs);
-  mean = m[0];
-  se = s[0];
+std::vector<Parameter> resolve_parameters(const json& base, const std::string& origin, const Data& data,
+                                          const Options& o) {
+  const Scene scene = parse_scene(base.dump(), origin).scene;
+  double cmin = HUGE_VAL, cmax = 0;
+  for (const auto& d : data.points) cmin = std::min(cmin, d.concentration), cmax = std::max(cmax, d.concentration);
+  std::vector<Parameter> ps = o.parameters;
+  if (ps.empty()) {
+    if (signalling_scene(scene))
+      ps = {{"r0", 0, 0}, {"kext", 0, 0}, {"a1b", 0, 0}};
+    else
+      ps = {{"gain", 0, 0}, {"kd", 0, 0}};
+    if (o.fit_scale) ps.push_back({"scale", 0, 0});
+  }
+  for (auto& p : ps) {
+    const SignalParameter* sp = signal_parameter(p.name);
+    if (p.name == "gain" || p.name == "kd") {
+      if (signalling_scene(scene) && scene.guidance.model != GuidanceModel::kSnr)
+        throw InputError(fmt::format("fit: parameter {}: the base scene does not steer by the SNR model", p.name));
+    } else if (p.name != "scale" && !sp) {
+      std::string names = "gain, kd, scale";
+      for (const auto& q : kSignalTable) names += std::string(", ") + q.name;
+      throw InputError(fmt::format("fit: unknown parameter \"{}\" (the parameters are {})", p.name, names));
+    } else if (sp && !signalling_scene(scene)) {
+      throw InputError(fmt::format("fit: parameter {}: the base scene's axons.growth_model is not \"signalling\"",
+                                   p.name));
+    }
+    if (p.lo == 0 && p.hi == 0) {
+      if (p.name == "gain") p.lo = o.gain_lo, p.hi = o.gain_hi;
+      else if (p.name == "kd") p.lo = o.kd_lo > 0 ? o.kd_lo : cmin / 10, p.hi = o.kd_hi > 0 ? o.kd_hi : cmax * 10;
+      else if (p.name == "scale") p.lo = 0.1, p.hi = 10;
+      else {
+        const double v = sp->value > 0 ? sp->value : (p.name == "a1b" ? 0.01 : 1.0);
+        p.lo = v / 10, p.hi = v * 10;
+      }
+    }
+    if (!(p.lo > 0) || !(p.hi > p.lo) || !std::isfinite(p.hi))
+      throw InputError(fmt::format("fit: parameter {}: range {} to {}: both must be > 0 and finite, the first below "
+                                   "the second",
+                                   p.name, p.lo, p.hi));
+  }
+  for (std::size_t a = 0; a < ps.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b)
+      if (ps[a].name == ps[b].name) throw InputError(fmt::format("fit: parameter {} given twice", ps[a].name));
+  return ps;
 }
 
-Result fit(const json& base, const std::string& origin, const std::vector<DataPoint>& data, const Options& o) {
+void predict(const json& base, const std::vector<std::pair<double, double>>& pts, const std::vector<Parameter>& ps,
+             const Params& p, const Options& o, std::vector<double> (&mean)[kMeasures],
+             std::vector<double> (&se)[kMeasures]) {
+  std::size_t runs = 0;
+  const Scene scene = parse_scene(base.dump(), "fit").scene;
+  const std::string bias_metric =
+      !o.bias_metric.empty() ? o.bias_metric : (scene.signalling() ? "outgrowth_bias" : "bias");
+  const Evaluated ev = evaluate(base, pts, ps, {p}, o, o.seeds, bias_metric, runs);
+  for (int m = 0; m < kMeasures; ++m) mean[m] = ev.mean[0][m], se[m] = ev.se[0][m];
+}
+
+Result fit(const json& base, const std::string& origin, const Data& data, const Options& o) {
   const Scene scene = parse_scene(base.dump(), origin).scene;
-  if (scene.guidance.model != GuidanceModel::kSnr || scene.cues.field != FieldKind::kImposed ||
-      scene.cues.sources.empty())
+  const bool steers = scene.guidance.model == GuidanceModel::kSnr;
+  if (!(steers || scene.signalling()) || scene.cues.field != FieldKind::kImposed || scene.cues.sources.empty())
     throw InputError(fmt::format(
-        "fit: {}: the base scene must be an explant in an imposed gradient (guidance.model \"snr\", cues.field "
-        "\"imposed\", at least one source in cues.sources)",
+        "fit: {}: the base scene must be an explant in an imposed gradient (guidance.model \"snr\" or "
+        "axons.growth_model \"signalling\", cues.field \"imposed\", at least one source in cues.sources)",
         origin));
-  std::vector<std::pair<double, double>> pts;
-  double cmin = HUGE_VAL, cmax = 0;
-  for (const auto& d : data) {
-    pts.emplace_back(d.concentration, d.steepness);
-    cmin = std::min(cmin, d.concentration);
-    cmax = std::max(cmax, d.concentration);
-  }
+  if (o.seeds.empty()) throw InputError("fit: at least one seed is needed");
   Result r;
-  const int k = o.fit_scale ? 3 : 2;
-  r.dof = static_cast<int>(data.size()) - k;
+  r.parameters = resolve_parameters(base, origin, data, o);
+  r.bias_metric = !o.bias_metric.empty() ? o.bias_metric : (scene.signalling() ? "outgrowth_bias" : "bias");
+  {
+    const auto& names = assay::scalar_metric_names();
+    if (std::find(names.begin(), names.end(), r.bias_metric) == names.end())
+      throw InputError(fmt::format("fit: bias metric \"{}\" is not an assay metric", r.bias_metric));
+  }
+  // The modelled points: concentrations corrected per steepness.
+  std::vector<std::pair<double, double>> pts;
+  for (const auto& d : data.points) {
+    double f = 1.0;
+    for (const auto& [s, factor] : o.corrections)
+      if (std::fabs(d.steepness - s) <= 1e-9 * std::max(1.0, std::fabs(s))) f = factor;
+    pts.emplace_back(d.concentration * f, d.steepness);
+  }
+  for (std::size_t i = 0; i < data.points.size(); ++i)
+    for (int m = 0; m < kMeasures; ++m)
+      if (data.measured[m]) r.residuals.push_back({i, m});
+  const std::size_t k = r.parameters.size();
+  r.dof = static_cast<int>(r.residuals.size()) - static_cast<int>(k);
   if (r.dof < 1)
-    throw InputError(fmt::format("fit: {} data rows for {} parameters: at least {} are needed", data.size(), k, k + 1));
-  double lg[2] = {log_of(o.gain_lo), log_of(o.gain_hi)};
-  double lk[2] = {log_of(o.kd_lo > 0 ? o.kd_lo : cmin / 10), log_of(o.kd_hi > 0 ? o.kd_hi : cmax * 10)};
-  double ls[2] = {log_of(0.1), log_of(10.0)};
-  r.model_min.assign(data.size(), HUGE_VAL);
-  r.model_max.assign(data.size(), -HUGE_VAL);
+    throw InputError(fmt::format("fit: {} measured values for {} parameters: at least {} are needed",
+                                 r.residuals.size(), k, k + 1));
+  std::vector<double> lo(k), hi(k);
+  for (std::size_t j = 0; j < k; ++j) lo[j] = log_of(r.parameters[j].lo), hi[j] = log_of(r.parameters[j].hi);
+
+  // The seeds: a pilot at the centre of the coarse grid measures each point's spread over
+  // seeds; enough seeds are then taken for model SE <= target x data SE at every point.
+  r.seeds = o.seeds;
+  if (o.seeds.size() >= 2 && o.target_se_ratio > 0) {
+    Params centre(k);
+    for (std::size_t j = 0; j < k; ++j) centre[j] = exp_of(0.5 * (lo[j] + hi[j]));
+    const Evaluated pilot = evaluate(base, pts, r.parameters, {centre}, o, o.seeds, r.bias_metric, r.runs);
+    double need = 2.0;
+    for (const auto& res : r.residuals) {
+      const double se = pilot.se[0][res.measure][res.point];
+      if (!std::isfinite(se)) continue;
+      const double sd = se * std::sqrt(static_cast<double>(o.seeds.size()));
+      const double want = sd / (o.target_se_ratio * data.points[res.point].se[res.measure]);
+      need = std::max(need, std::ceil(want * want));
+    }
+    // At least 2 (an SE needs two), at most max_seeds; the pilot's seeds come first.
+    const std::size_t want = std::max<std::size_t>(2, std::min(static_cast<std::size_t>(need), o.max_seeds));
+    if (want < r.seeds.size()) r.seeds.resize(want);
+    std::uint64_t next = *std::max_element(o.seeds.begin(), o.seeds.end()) + 1;
+    while (r.seeds.size() < want) r.seeds.push_back(next++);
+  }
+
+  r.model_min.assign(r.residuals.size(), HUGE_VAL);
+  r.model_max.assign(r.residuals.size(), -HUGE_VAL);
   r.chi2 = HUGE_VAL;
   for (int round = 0; round <= o.refine_rounds; ++round) {
     const int n = round == 0 ? o.coarse : 5;
-    const int ns = o.fit_scale ? n : 1;
-    std::vector<Params> ps;
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b)
-        for (int c = 0; c < ns; ++c) {
-          auto at = [&](const double* l, int i, int m) { return m == 1 ? 0.5 * (l[0] + l[1]) : l[0] + (l[1] - l[0]) * i / (m - 1); };
-          ps.push_back({exp_of(at(lg, a, n)), exp_of(at(lk, b, n)), o.fit_scale ? exp_of(at(ls, c, ns)) : 1.0});
-        }
-    std::vector<std::vector<double>> mean, se;
-    evaluate(base, pts, ps, o, mean, se, r.runs);
+    std::vector<Params> sets;
+    std::size_t total = 1;
+    for (std::size_t j = 0; j < k; ++j) total *= static_cast<std::size_t>(n);
+    for (std::size_t idx = 0; idx < total; ++idx) {
+      Params p(k);
+      std::size_t rest = idx;
+      for (std::size_t j = k; j-- > 0;) {  // the first parameter slowest
+        const int i = static_cast<int>(rest % static_cast<std::size_t>(n));
+        rest /= static_cast<std::size_t>(n);
+        p[j] = exp_of(n == 1 ? 0.5 * (lo[j] + hi[j]) : lo[j] + (hi[j] - lo[j]) * i / (n - 1));
+      }
+      sets.push_back(std::move(p));
+    }
+    const Evaluated ev = evaluate(base, pts, r.parameters, sets, o, r.seeds, r.bias_metric, r.runs);
     std::size_t best = 0;
     double best_chi2 = HUGE_VAL;
-    for (std::size_t e = 0; e < ps.size(); ++e) {
+    for (std::size_t e = 0; e < sets.size(); ++e) {
       double chi2 = 0;
-      for (std::size_t i = 0; i < data.size(); ++i) {
-        const double d = data[i].bias - mean[e][i];
-        chi2 += d * d / (data[i].se * data[i].se + se[e][i] * se[e][i]);
-        r.model_min[i] = std::min(r.model_min[i], mean[e][i]);
-        r.model_max[i] = std::max(r.model_max[i], mean[e][i]);
+      std::vector<double> model, model_se;
+      for (std::size_t q = 0; q < r.residuals.size(); ++q) {
+        const auto [i, m] = r.residuals[q];
+        const double mu = ev.mean[e][m][i], s = ev.se[e][m][i], sd = data.points[i].se[m];
+        const double d = data.points[i].value[m] - mu;
+        chi2 += d * d / (sd * sd + s * s);
+        model.push_back(mu);
+        model_se.push_back(s);
+        r.model_min[q] = std::min(r.model_min[q], mu);
+        r.model_max[q] = std::max(r.model_max[q], mu);
       }
-      r.evaluations.push_back({ps[e], chi2, mean[e], se[e]});
+      if (!std::isfinite(chi2)) chi2 = kNaN;
+      r.evaluations.push_back({sets[e], chi2, model, model_se});
       if (chi2 < best_chi2) {  // ties: the first evaluated
         best_chi2 = chi2;
         best = e;
@@ -198,24 +473,28 @@ Result fit(const json& base, const std::string& origin, const std::vector<DataPo
     }
     if (best_chi2 < r.chi2) {
       r.chi2 = best_chi2;
-      r.best = ps[best];
-      r.model = mean[best];
-      r.model_se = se[best];
+      r.best = sets[best];
+      r.model = r.evaluations[r.evaluations.size() - sets.size() + best].model;
+      r.model_se = r.evaluations[r.evaluations.size() - sets.size() + best].model_se;
     }
+    if (r.best.empty()) throw RunError("fit: no parameter set gave a defined model at every data point");
     // The next grid spans one step of this one on either side of the best point.
-    const auto narrow = [&](double* l, double centre, int m) {
-      const double step = m > 1 ? (l[1] - l[0]) / (m - 1) : 0.0;
-      l[0] = centre - step;
-      l[1] = centre + step;
-    };
-    narrow(lg, log_of(r.best.gain), n);
-    narrow(lk, log_of(r.best.kd), n);
-    if (o.fit_scale) narrow(ls, log_of(r.best.scale), ns);
+    for (std::size_t j = 0; j < k; ++j) {
+      const double step = n > 1 ? (hi[j] - lo[j]) / (n - 1) : 0.0;
+      const double c = log_of(r.best[j]);
+      lo[j] = c - step;
+      hi[j] = c + step;
+    }
   }
   r.chi2_per_dof = r.chi2 / r.dof;
-  for (std::size_t i = 0; i < data.size(); ++i)
-    r.reachable.push_back(data[i].bias + 2 * data[i].se >= r.model_min[i] &&
-                          data[i].bias - 2 * data[i].se <= r.model_max[i]);
+  r.interval_delta = 3.84 * std::max(1.0, r.chi2_per_dof);
+  for (std::size_t j = 0; j < k; ++j) r.intervals.push_back(profile_interval(r.evaluations, j, r.best[j], r.interval_delta));
+  for (std::size_t q = 0; q < r.residuals.size(); ++q) {
+    const auto [i, m] = r.residuals[q];
+    const double v = data.points[i].value[m], s = data.points[i].se[m];
+    r.reachable.push_back(v + 2 * s >= r.model_min[q] && v - 2 * s <= r.model_max[q]);
+    r.se_ratio_max = std::max(r.se_ratio_max, r.model_se[q] / s);
+  }
   return r;
 }
 

@@ -9,7 +9,8 @@
 //   X, Zx / Y, Zy   the gradient readout: X grows with Ac and is removed by Zx, which needs
 //       both Ac and I; Y likewise with I; so X and Y compare tip and cell body;
 //   F   a Goldbeter-Koshland switch (of F_t) pushed up by X and down by Y;
-//   G, Gs  a growth-promoting state, made at a0 + aF F, activated by A, deactivated by Ic;
+//   G, Gs  a growth-promoting state, made at a0 + aF F, activated by A (and, as an
+//       extension, at an NGF-independent rate a1b; 0 in the paper), deactivated by Ic;
 //   R   the axon's length: R' = r0 + kext Gs.
 //
 // The inhibitory signal I is an input: the cell-body receptors driven by C at the soma
@@ -39,6 +40,7 @@ struct SignallingParams {
   double g1, g2;             // Z-X and Z-Y annihilation (per count per time)
   double Ft, a6, b6, kX, kY; // the switch: total, up and down rates (per time), Michaelis constants (counts)
   double a0, aF, a1, b1, b0; // G production (per time; per F per time), activation, deactivation, decay
+  double a1b;                // NGF-independent activation of G (per time; 0 in the paper, an extension)
   double r0, kext;           // basal growth (length per time), growth per Gs (length per time)
 };
 
@@ -64,8 +66,8 @@ struct SignallingSystem {
     f[kSZx] = q.a4 * y[kSAc] * i - q.b4 * y[kSZx] - q.g1 * y[kSZx] * y[kSX];
     f[kSZy] = q.a5 * y[kSAc] * i - q.b5 * y[kSZy] - q.g2 * y[kSZy] * y[kSY];
     f[kSF] = q.a6 * y[kSX] * u / (q.kX + u) - q.b6 * y[kSY] * y[kSF] / (q.kY + y[kSF]);
-    f[kSG] = q.a0 + q.aF * y[kSF] - q.a1 * y[kSA] * y[kSG] + q.b1 * y[kSIc] * y[kSGs] - q.b0 * y[kSG];
-    f[kSGs] = q.a1 * y[kSA] * y[kSG] - q.b1 * y[kSIc] * y[kSGs] - q.b0 * y[kSGs];
+    f[kSG] = q.a0 + q.aF * y[kSF] - (q.a1 * y[kSA] + q.a1b) * y[kSG] + q.b1 * y[kSIc] * y[kSGs] - q.b0 * y[kSG];
+    f[kSGs] = (q.a1 * y[kSA] + q.a1b) * y[kSG] - q.b1 * y[kSIc] * y[kSGs] - q.b0 * y[kSGs];
     f[kSR] = q.r0 + q.kext * y[kSGs];
   }
 
@@ -96,11 +98,11 @@ struct SignallingSystem {
     j[kSF * n + kSF] = -q.a6 * y[kSX] * q.kX / (ku * ku) - q.b6 * y[kSY] * q.kY / (kf * kf);
     j[kSG * n + kSF] = q.aF;
     j[kSG * n + kSA] = -q.a1 * y[kSG];
-    j[kSG * n + kSG] = -q.a1 * y[kSA] - q.b0;
+    j[kSG * n + kSG] = -(q.a1 * y[kSA] + q.a1b) - q.b0;
     j[kSG * n + kSIc] = q.b1 * y[kSGs];
     j[kSG * n + kSGs] = q.b1 * y[kSIc];
     j[kSGs * n + kSA] = q.a1 * y[kSG];
-    j[kSGs * n + kSG] = q.a1 * y[kSA];
+    j[kSGs * n + kSG] = q.a1 * y[kSA] + q.a1b;
     j[kSGs * n + kSIc] = -q.b1 * y[kSGs];
     j[kSGs * n + kSGs] = -q.b1 * y[kSIc] - q.b0;
     j[kSR * n + kSGs] = q.kext;
@@ -139,7 +141,7 @@ AXG_HDI void signalling_steady_state(const SignallingParams& q, double c, double
   const double f = den > 0.0 ? 2.0 * v1 * j2 / den : (v1 > 0.0 ? 1.0 : 0.0);
   const double F = q.Ft * f;
   const double total = (q.a0 + q.aF * F) / q.b0;
-  const double gs = total * q.a1 * a / (q.a1 * a + q.b1 * ic + q.b0);
+  const double gs = total * (q.a1 * a + q.a1b) / (q.a1 * a + q.a1b + q.b1 * ic + q.b0);
   y[kSA] = a, y[kSAc] = ac, y[kSIc] = ic, y[kSX] = x, y[kSY] = yy, y[kSZx] = zx, y[kSZy] = zy;
   y[kSF] = F, y[kSG] = total - gs, y[kSGs] = gs, y[kSR] = 0.0;
 }

@@ -78,6 +78,7 @@ struct FitArgs {
   bool scale = false;
   int seeds = 4;
   int max_seeds = 64;
+  int polish = 4;
   double target_se = 1.0 / 3.0;
   bool mirror = true;
   std::vector<std::string> params, corrections;

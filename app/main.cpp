@@ -118,6 +118,8 @@ int dispatch(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1, 1000));
   fit_cmd->add_option("--max-seeds", fit.max_seeds, "The most seeds --target-se may take")->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  fit_cmd->add_option("--polish", fit.polish, "Gauss-Newton steps from the grid's best (0: none)")
+      ->capture_default_str()->check(CLI::Range(0, 20));
   fit_cmd->add_option("--target-se", fit.target_se, "Model SE / data SE to reach at every point (0: off)")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   fit_cmd->add_flag("!--no-mirror", fit.mirror, "Do not also run every seed with the gradient mirrored");

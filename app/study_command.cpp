@@ -293,6 +293,7 @@ int cmd_fit(const FitArgs& args) {
   o.seeds.clear();
   for (int k = 1; k <= args.seeds; ++k) o.seeds.push_back(static_cast<std::uint64_t>(k));
   o.max_seeds = static_cast<std::size_t>(args.max_seeds);
+  o.polish_iterations = args.polish;
   o.target_se_ratio = args.target_se;
   o.mirror = args.mirror;
   for (const auto& p : args.params) o.parameters.push_back(parse_param(p));
@@ -378,7 +379,8 @@ int cmd_fit(const FitArgs& args) {
     const auto& iv = r.intervals[k];
     params[r.parameters[k].name] = {{"best", r.best[k]},          {"interval_low", iv.lo},
                                     {"interval_high", iv.hi},     {"open_low", iv.open_low},
-                                    {"open_high", iv.open_high},  {"coarse_range", {r.parameters[k].lo, r.parameters[k].hi}}};
+                                    {"open_high", iv.open_high},  {"coarse_range", {r.parameters[k].lo, r.parameters[k].hi}},
+                                    {"linearised", iv.linearised}};
   }
   json measured = json::array();
   for (int m = 0; m < fit::kMeasures; ++m)
@@ -390,8 +392,10 @@ int cmd_fit(const FitArgs& args) {
                   {"measured", measured},
                   {"bias_metric", r.bias_metric},
                   {"parameters", params},
-                  {"interval", fmt::format("profile likelihood, chi2 <= min + {:.4g} (3.84 x max(1, chi2/dof))",
+                  {"interval", fmt::format("profile likelihood, chi2 <= min + {:.4g} (3.84 x max(1, chi2/dof)), "
+                                           "widened to the linearised profile at the best where that is wider",
                                            r.interval_delta)},
+                  {"polished", r.polished},
                   {"gain", value_of("gain", parsed.scene.guidance.gain)},
                   {"kd", value_of("kd", parsed.scene.cues.sources.empty() ? 0.0 : parsed.scene.cues.sources[0].kd)},
                   {"concentration_scale", value_of("scale", 1.0)},

@@ -144,8 +144,10 @@ _DATA_COLUMNS = ("concentration", "steepness", "bias", "se", "count")
 
 
 def _data_text(data):
-    # A path (read as `axonguide fit DATA` reads it), a dict of columns, or rows (dicts or
+    # A path (read as `axonguide fit DATA` reads it), a dict of columns, or rows (dicts, or
     # (concentration, steepness, bias, se, count) tuples): the CSV the command line reads.
+    # A dict's keys (or the first dict row's) are the header: any columns `fit` reads
+    # (concentration, steepness, count, bias and/or outgrowth, se or bias_se/outgrowth_se).
     if isinstance(data, (str, os.PathLike)):
         path = os.fspath(data)
         if not os.path.exists(path):
@@ -153,24 +155,29 @@ def _data_text(data):
         with open(path, "r", encoding="utf-8", errors="surrogateescape") as f:
             return f.read(), path
     if isinstance(data, Mapping):
-        missing = [c for c in _DATA_COLUMNS if c not in data]
-        if missing:
-            raise InputError(f"fit: data needs the columns {', '.join(_DATA_COLUMNS)} (missing {missing[0]!r})")
-        cols = [list(np.asarray(data[c]).tolist()) for c in _DATA_COLUMNS]
-        if len({len(c) for c in cols}) != 1:
+        header = [str(c) for c in data]
+        cols = [list(np.asarray(data[c]).tolist()) for c in data]
+        if len({len(c) for c in cols}) > 1:
             raise InputError("fit: data columns must have the same length")
         rows = list(zip(*cols))
     else:
-        rows = []
+        rows, header = [], None
         for r in data:
             if isinstance(r, Mapping):
-                r = tuple(r[c] for c in _DATA_COLUMNS)
+                if header is None:
+                    header = [str(c) for c in r]
+                missing = [c for c in header if c not in r]
+                if missing or len(r) != len(header):
+                    raise InputError(f"fit: data rows as dicts need the same keys ({', '.join(header)})")
+                r = tuple(r[c] for c in header)
             rows.append(tuple(np.asarray(r).tolist()))
+        if header is None:
+            header = list(_DATA_COLUMNS)
     buf = io.StringIO()
-    buf.write(",".join(_DATA_COLUMNS) + "\n")
+    buf.write(",".join(header) + "\n")
     for r in rows:
-        if len(r) != 5:
-            raise InputError(f"fit: a data row has {len(r)} values, 5 are needed ({', '.join(_DATA_COLUMNS)})")
+        if len(r) != len(header):
+            raise InputError(f"fit: a data row has {len(r)} values, {len(header)} are needed ({', '.join(header)})")
         buf.write(",".join(repr(float(v)) if not isinstance(v, int) else str(v) for v in r) + "\n")
     return buf.getvalue(), "<rows>"
 
@@ -193,14 +200,14 @@ def _base_text(base):
 
 def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0, kd_min=None, kd_max=None,
         grid=7, refine=2, threads=None, backend="reference", mirror=True, target_se=1.0 / 3.0, max_seeds=64,
-        params=None, corrections=None, bias_metric=""):
-    """`axonguide fit DATA --scene BASE` (docs/methods.md §12.3): fits the gain and K_d (and
-    with scale=True a scale on the nominal concentrations) to measured directional bias.
-    data: a CSV path (columns concentration, steepness, bias, se, count), a dict of those
-    columns, or rows. seeds: a count (seeds 1..N, as --seeds) or a list. grid and refine are
+        params=None, corrections=None, bias_metric="", polish=4):
+    """`axonguide fit DATA --scene BASE` (docs/methods.md §12.3): fits the model's parameters
+    (SNR: gain and K_d, with scale=True a scale on the nominal concentrations; signalling:
+    r0, kext, a1b; or `params`) to measured directional bias and/or radial outgrowth.
+    data: a CSV path (the columns of `axonguide fit`), a dict of columns, or rows. seeds: a count (seeds 1..N, as --seeds) or a list. grid and refine are
     --grid and --refine; kd_min/kd_max bound the coarse K_d grid (None: from the data).
     mirror, target_se, max_seeds, bias_metric: --no-mirror, --target-se, --max-seeds,
-    --bias-metric; params: names or (name, lo, hi) tuples (--param); corrections: a dict
+    --bias-metric; polish: --polish (Gauss-Newton steps from the grid's best); params: names or (name, lo, hi) tuples (--param); corrections: a dict
     {steepness: factor} (--correct).
     Returns a FitResult. The GIL is released while the model runs."""
     base, origin = _base_text(base_scene)
@@ -215,7 +222,7 @@ def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0
                   float(gain_max), float(kd_min or 0.0), float(kd_max or 0.0), int(grid), int(refine),
                   check_backend(backend), bool(mirror), float(target_se), int(max_seeds),
                   [(p, 0.0, 0.0) if isinstance(p, str) else (str(p[0]), float(p[1]), float(p[2])) for p in (params or [])],
-                  [(float(s), float(f)) for s, f in (corrections or {}).items()], str(bias_metric))
+                  [(float(s), float(f)) for s, f in (corrections or {}).items()], str(bias_metric), int(polish))
     d["evaluations"] = dict(d["evaluations"])
     d["data"] = dict(d["data"])
     return FitResult(d)

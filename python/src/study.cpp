@@ -187,7 +187,8 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
                  double gain_lo, double gain_hi, double kd_lo, double kd_hi, int grid, int refine,
                  const std::string& backend, bool mirror, double target_se, std::size_t max_seeds,
                  const std::vector<std::tuple<std::string, double, double>>& params,
-                 const std::vector<std::pair<double, double>>& corrections, const std::string& bias_metric) {
+                 const std::vector<std::pair<double, double>>& corrections, const std::string& bias_metric,
+                 int polish) {
   // The command line's limits (axonguide fit --seeds, --gain-min/max, --grid, --refine).
   if (seeds.empty() || seeds.size() > 1000) throw InputError("fit: seeds must be a count in [1, 1000] or a list of 1 to 1000 seeds");
   if (!(gain_lo > 0) || !(gain_hi > 0) || !(gain_lo < gain_hi))
@@ -197,6 +198,7 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
   if (grid < 2 || grid > 50) throw InputError(fmt::format("fit: grid = {}: must be 2 to 50", grid));
   if (refine < 0 || refine > 10) throw InputError(fmt::format("fit: refine = {}: must be 0 to 10", refine));
   if (!(target_se >= 0) || !(target_se <= 10)) throw InputError(fmt::format("fit: target_se = {}: must be 0 to 10", target_se));
+  if (polish < 0 || polish > 20) throw InputError(fmt::format("fit: polish = {}: must be 0 to 20", polish));
   if (max_seeds < 1 || max_seeds > 1000) throw InputError(fmt::format("fit: max_seeds = {}: must be 1 to 1000", max_seeds));
   scene_from_text(base_text, origin);  // SceneError for a bad base scene
   const json base = parse_json_strict(base_text, origin);
@@ -214,6 +216,7 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
   o.mirror = mirror;
   o.target_se_ratio = target_se;
   o.max_seeds = max_seeds;
+  o.polish_iterations = polish;
   for (const auto& [name, lo, hi] : params) o.parameters.push_back({name, lo, hi});
   o.corrections = corrections;
   o.bias_metric = bias_metric;
@@ -248,6 +251,7 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
   d["dof"] = r.dof;
   d["chi2_per_dof"] = r.chi2_per_dof;
   d["runs"] = r.runs;
+  d["polished"] = r.polished;
   d["seeds"] = r.seeds;
   d["model_se_ratio_max"] = r.se_ratio_max;
   d["bias_metric"] = r.bias_metric;
@@ -344,7 +348,7 @@ void bind_study(py::module_& m) {
         py::arg("threads"), py::arg("seeds"), py::arg("scale"), py::arg("gain_min"), py::arg("gain_max"),
         py::arg("kd_min"), py::arg("kd_max"), py::arg("grid"), py::arg("refine"), py::arg("backend"),
         py::arg("mirror"), py::arg("target_se"), py::arg("max_seeds"), py::arg("params"), py::arg("corrections"),
-        py::arg("bias_metric"));
+        py::arg("bias_metric"), py::arg("polish"));
 }
 
 }  // namespace axg::py_api

@@ -270,6 +270,46 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
     v.tweak(s);
     out.push_back({v.name, s});
   }
+  // The signalling growth model (core/signalling.hpp) on every field kind, from the units
+  // variant (um, min, nM): rates set so that 50 steps of 30 min grow ~100-700 um.
+  Scene units;
+  for (const auto& n : out)
+    if (n.name == "units-um-min-nM-growth-speed") units = n.scene;
+  struct SignallingVariant {
+    const char* name;
+    const char* field;
+    const char* steering;
+    const char* inhibition;
+    bool populations;
+  };
+  const SignallingVariant signalling[] = {
+      {"signalling-particles-snr-population", "particles", "snr", "population", false},
+      {"signalling-analytic-direct-soma", "analytic", "direct", "soma", false},
+      {"signalling-grid-vector-sum-populations", "grid", "vector_sum", "population", true},
+      {"signalling-imposed-direct-populations", "imposed", "direct", "population", true},
+  };
+  for (const SignallingVariant& v : signalling) {
+    nlohmann::json j = scene_to_json(units);
+    j["dt"] = 30.0;
+    j["axons"]["growth_speed"] = nullptr;
+    j["axons"]["step_length"] = 10.0;
+    j["axons"]["growth_model"] = "signalling";
+    j["axons"]["signalling"] = {{"cue", 0},        {"inhibition", v.inhibition}, {"substeps", 2},
+                                {"r0", "0.2 um/min"}, {"kext", "0.1 um/min"},       {"kr", "0.02 /min"},
+                                {"ka", "0.02 /min"}, {"a1b", "0.001 /min"}};
+    j["guidance"]["model"] = v.steering;
+    j["cues"]["field"] = v.field;
+    if (std::string(v.field) == "grid") j["cues"]["grid"]["spacing"] = 40.0;
+    if (std::string(v.field) == "imposed")
+      j["cues"]["imposed"] = {{"profile", "exponential"}, {"direction", {0, 1, 0}}, {"steepness", 0.5},
+                              {"reference_length", 10}, {"concentration", 0.3}};
+    if (v.populations) {
+      const double r = j["neurons"]["region"]["radius"].get<double>();
+      j["neurons"]["populations"] = {{{"count", 200}, {"center", {-0.4 * r, 0, 0}}, {"radius", 0.4 * r}},
+                                     {{"count", 200}, {"center", {0.4 * r, 0, 0}}, {"radius", 0.4 * r}}};
+    }
+    out.push_back({v.name, parse_scene(j.dump(), v.name).scene});
+  }
   return out;
 }
 

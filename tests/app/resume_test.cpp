@@ -86,6 +86,17 @@ std::vector<std::pair<std::string, json>> field_scenes() {
   s = base_scene();
   s["cues"]["field"] = "imposed";
   out.emplace_back("imposed", s);
+  // The signalling growth model (its 11 species per axon are state): the Bicknell explant,
+  // inhibition from the population's mean, SNR steering.
+  s = json::parse(test::read_file(fs::path(AXG_SOURCE_DIR) / "scenes/assay-bicknell.json"));
+  s["neurons"]["count"] = 300;
+  s["steps"] = 24;
+  s["dt"] = 2.0;
+  s["cues"]["warmup_steps"] = 6;
+  s["axons"]["signalling"]["inhibition"] = "population";
+  s["guidance"] = {{"model", "snr"}, {"noise", "binding"}};
+  s["output"] = {{"checkpoint_every", 4}, {"paths", true}};
+  out.emplace_back("signalling-imposed", s);
   return out;
 }
 
@@ -143,7 +154,7 @@ class Trial {
   int trials_ = 0;
 };
 
-// 7 field types x 4 kill points = 28 trials on the reference engine, each point in turn.
+// 8 scenes (7 field types and the signalling model) x 4 kill points = 32 trials on the reference engine, each point in turn.
 TEST(resume, KilledAnywhereResumesToTheSameBytesForEveryFieldType) {
   std::size_t next = 0;
   for (const auto& [name, scene] : field_scenes()) {
@@ -157,7 +168,7 @@ TEST(resume, KilledAnywhereResumesToTheSameBytesForEveryFieldType) {
 TEST(resume, TheAcceleratorsEngineResumesToTheSameBytes) {
   const auto scenes = field_scenes();
   std::size_t next = 3;
-  for (std::size_t s : {1u, 3u, 5u}) {
+  for (std::size_t s : {1u, 3u, 5u, 7u}) {
     Trial t(scenes[s].first, scenes[s].second);
     for (int k = 0; k < 2; ++k) t.kill_and_resume(kKillPoints[next++ % kKillPoints.size()], "emulated", "emulated");
     t.kill_and_resume("step 13", "emulated", "reference");

@@ -63,6 +63,11 @@ TEST_P(BadScene, IsRejectedWithAClearMessage) {
   }
 }
 
+// A valid signalling scene's prefix, its axons.signalling object left open.
+#define SIG                                                                                      \
+  R"({"units": {"length": "um", "time": "min", "concentration": "nM"}, "cues": {"field": "analytic", )" \
+  R"("sources": [{"position": [0, 0, 0]}]}, "axons": {"growth_model": "signalling", "signalling": {)"
+
 INSTANTIATE_TEST_SUITE_P(
     scene, BadScene,
     ::testing::Values(
@@ -184,7 +189,22 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{R"({"output": {"graphml": "yes"}})", R"(output.graphml = "yes": must be true, false or null)"},
         Bad{R"({"output": {"conduction_speed": 0}})", "output.conduction_speed = 0: must be > 0"},
         Bad{R"({"output": {"swc": 1}})", "output.swc = 1: must be true or false"},
-        Bad{R"({"output": {"sonata": null}})", "output.sonata = null: must be true or false"}),
+        Bad{R"({"output": {"sonata": null}})", "output.sonata = null: must be true or false"},
+        // The signalling growth model: physical units, rates with their units, >= 0.
+        Bad{R"({"axons": {"growth_model": "signalling"}, "cues": {"field": "analytic"}})", "needs physical units"},
+        Bad{SIG R"("kr": "-0.1 /min"}}})", "axons.signalling.kr = \"-0.1 /min\": must not be negative"},
+        Bad{SIG R"("kr": 0.1}}})", "axons.signalling.kr = 0.1: needs its unit"},
+        Bad{SIG R"("kr": "0.1 min"}}})", "unit \"min\" is not one of /s, /min or /h"},
+        Bad{SIG R"("kpA": "1 /min"}}})", "axons.signalling.kpA"},
+        Bad{SIG R"("r0": "0.05 um"}}})", "axons.signalling.r0"},
+        Bad{SIG R"("kr": "1e999 /min"}}})", "is not a finite number"},
+        Bad{SIG R"("kr": "0.1  /min"}}})", "axons.signalling.kr"},
+        Bad{SIG R"("At": "1000 molecules"}}})", "axons.signalling.At"},
+        Bad{SIG R"("At": 0}}})", "axons.signalling.At = 0: must be > 0"},
+        Bad{SIG R"("speed": "1 um/min"}}})", "unknown key axons.signalling.speed"},
+        Bad{SIG R"("cue": 3}}})", "axons.signalling.cue = 3"},
+        Bad{SIG R"("inhibition": "none"}}})", "axons.signalling.inhibition"},
+        Bad{SIG R"("substeps": 0}}})", "axons.signalling.substeps"}),
     [](const auto& info) { return std::to_string(info.index); });
 
 // The output keys added with SWC and SONATA: read, and in the canonical form only when set,

@@ -253,13 +253,55 @@ TEST(fit, MalformedDataNamesTheLine) {
     }
   };
   const std::string header = "concentration,steepness,bias,se,count\n";
-  expect_error("conc,steepness,bias,se,count\n1,0.2,0.1,0.01,3\n", "missing \"concentration\"");
+  expect_error("conc,steepness,bias,se,count\n1,0.2,0.1,0.01,3\n", "line 1: unknown column \"conc\"");
+  expect_error("steepness,bias,se,count\n0.2,0.1,0.01,3\n", "missing \"concentration\"");
+  expect_error("concentration,steepness,se,count\n1,0.2,0.01,3\n", "no measured column");
+  expect_error("concentration,steepness,bias,count\n1,0.2,0.1,3\n", "missing \"se\"");
+  expect_error("concentration,steepness,bias,bias,se,count\n1,0.2,0.1,0.1,0.01,3\n", "column \"bias\" twice");
+  expect_error("concentration,steepness,bias,outgrowth,se,count\n1,0.2,0.1,300,0.01,3\n", "\"se\" is ambiguous");
+  expect_error("concentration,steepness,bias,outgrowth,bias_se,count\n1,0.2,0.1,300,0.01,3\n",
+               "missing \"outgrowth_se\"");
+  expect_error("concentration,steepness,outgrowth,outgrowth_se,count\n1,0.2,300,10,3\n",
+               "one measured column: its SE is \"se\"");
   expect_error(header + "1,0.2,0.1,0.01,3\n# a comment\n2,0.2,abc,0.01,3\n", "line 4: bias = \"abc\"");
   expect_error(header + "1,0.2,0.1,0.01,3\n2,0.2,0.1,0,3\n3,0.2,0.1,0.1,3\n", "line 3: se = 0");
   expect_error(header + "1,0.2,0.1,0.01\n", "line 2: 4 fields");
   expect_error(header + "-1,0.2,0.1,0.01,3\n", "line 2: concentration");
   expect_error(header + "1,0.2,0.1,0.01,2.5\n", "line 2: count");
   expect_error(header + "1,0.2,0.1,0.01,3\n", "at least 3");
+  expect_error(header + "1,0.2,nan,0.01,3\n", "line 2: bias = \"nan\" is not a finite number");
+}
+
+TEST(fit, DataReadsEitherMeasureOrBothInAnyColumnOrder) {
+  const auto one = fit::parse_data("count,outgrowth,steepness,se,concentration\n3,300,0.1,10,0.5\n4,310,0.1,12,1\n"
+                                   "# comment\n5,320,0,11,2\n", "o.csv");
+  EXPECT_FALSE(one.measured[fit::kBias]);
+  EXPECT_TRUE(one.measured[fit::kOutgrowth]);
+  ASSERT_EQ(one.points.size(), 3u);
+  EXPECT_EQ(one.points[1].concentration, 1.0);
+  EXPECT_EQ(one.points[1].value[fit::kOutgrowth], 310.0);
+  EXPECT_EQ(one.points[1].se[fit::kOutgrowth], 12.0);
+  EXPECT_EQ(one.points[2].count, 5u);
+  EXPECT_EQ(one.points[2].line, 5u);
+  EXPECT_TRUE(std::isnan(one.points[0].value[fit::kBias]));
+  const auto both = fit::parse_data("concentration,steepness,bias,bias_se,outgrowth,outgrowth_se,count\n"
+                                    "1,0.2,0.1,0.01,300,10,3\n2,0.2,0.05,0.01,280,9,3\n3,0.2,0.0,0.02,260,8,3\n",
+                                    "b.csv");
+  EXPECT_EQ(both.measure_count(), 2);
+  EXPECT_EQ(both.points[2].value[fit::kBias], 0.0);
+  EXPECT_EQ(both.points[2].se[fit::kBias], 0.02);
+  EXPECT_EQ(both.points[2].value[fit::kOutgrowth], 260.0);
+  EXPECT_EQ(both.points[2].se[fit::kOutgrowth], 8.0);
+}
+
+TEST(fit, TheSharedDataSetsParse) {
+  // data/bicknell2018/: byte-for-byte copies of the workplace's shared data (provenance in the headers).
+  const std::filesystem::path dir = std::filesystem::path(AXG_SOURCE_DIR) / "data/bicknell2018";
+  const auto g = fit::load_data((dir / "outgrowth-gradient.csv").string());
+  EXPECT_TRUE(g.measured[fit::kOutgrowth]);
+  EXPECT_EQ(g.points.size(), 40u);
+  const auto u = fit::load_data((dir / "outgrowth-uniform.csv").string());
+  EXPECT_EQ(u.points.size(), 8u);
 }
 
 int run_binary(const std::string& args) {
@@ -275,7 +317,7 @@ TEST(fit, ExitCodesFollowTheThresholdAndTheData) {
   scene["steps"] = 40;
   const auto base = d.path() / "base.json";
   std::ofstream(base) << scene.dump();
-  const std::string common = fmt::format("--scene {} --seeds 2 --grid 2 --refine 0", base.string());
+  const std::string common = fmt::format("--scene {} --seeds 2 --max-seeds 2 --grid 2 --refine 0", base.string());
   EXPECT_EQ(run_binary(fmt::format("fit {} {} --out {}/a --max-chi2 1e6", data, common, d.path().string())), 0);
   EXPECT_TRUE(std::filesystem::exists(d.path() / "a/fit.json"));
   EXPECT_EQ(run_binary(fmt::format("fit {} {} --out {}/b --max-chi2 1e-9", data, common, d.path().string())), 1);
@@ -349,6 +391,100 @@ TEST(sweep, CommandExitCodes) {
       "parameters": [{"key": "neurons.populations.0.count", "values": [10, 100000]}]})");
   EXPECT_EQ(run_binary(fmt::format("sweep {} --out {}/c", failing, d.path().string())), 1);
   EXPECT_NE(test::read_file(d.path() / "c/sweep.csv").find(",ok,0,"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace axg
+
+namespace axg {
+namespace {
+
+// A small explant of the signalling model in uniform NGF: 40 neurons for 48 h.
+json small_signalling_explant() {
+  json scene = json::parse(test::read_file(std::filesystem::path(AXG_SOURCE_DIR) / "scenes/assay-bicknell.json"));
+  scene["neurons"]["count"] = 40;
+  scene["steps"] = 30;
+  scene["dt"] = 1.6;
+  return scene;
+}
+
+// The fit recovers known parameters from data the model made with other seeds: the truth
+// (off every grid point) lies inside each profile-likelihood interval, and the intervals
+// are closed and narrower than the searched range.
+TEST(fit, RecoversKnownSignallingParametersWithinTheirIntervals) {
+  const json base = small_signalling_explant();
+  const std::vector<fit::Parameter> ps{{"r0", 0.02, 0.2}, {"kext", 0.005, 0.08}};
+  const fit::Params truth{0.07, 0.03};
+  const std::vector<double> conc{0.001, 0.01, 0.1, 0.3, 1, 10, 100};
+  std::vector<std::pair<double, double>> pts;
+  for (double c : conc) pts.emplace_back(c, 0.0);
+  fit::Options o;
+  o.seeds = {101, 102, 103, 104};
+  std::vector<double> mean[fit::kMeasures], se[fit::kMeasures];
+  fit::predict(base, pts, ps, truth, o, mean, se);
+  fit::Data data;
+  data.measured[fit::kOutgrowth] = true;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(mean[fit::kOutgrowth][i]));
+    // A data SE of 3 % of the value, as for a well-sampled group of explants.
+    const double nan = std::nan("");
+    data.points.push_back({pts[i].first, 0.0, {nan, mean[fit::kOutgrowth][i]}, {nan, 0.03 * mean[fit::kOutgrowth][i]},
+                           20, i + 2});
+  }
+  o.seeds = {1, 2};
+  o.max_seeds = 8;
+  o.parameters = ps;
+  o.coarse = 5;
+  o.refine_rounds = 1;
+  const fit::Result r = fit::fit(base, "synthetic", data, o);
+  ASSERT_EQ(r.intervals.size(), 2u);
+  EXPECT_LE(r.se_ratio_max, 1.0 / 3.0 + 1e-12);
+  EXPECT_TRUE(r.polished);
+  EXPECT_LT(r.chi2_per_dof, 3.0) << r.chi2 << " at r0 " << r.best[0] << ", kext " << r.best[1];
+  for (std::size_t j = 0; j < 2; ++j) {
+    const auto& iv = r.intervals[j];
+    EXPECT_LE(iv.lo, truth[j]) << ps[j].name;
+    EXPECT_GE(iv.hi, truth[j]) << ps[j].name;
+    EXPECT_LE(iv.lo, iv.best);
+    EXPECT_GE(iv.hi, iv.best);
+    EXPECT_FALSE(iv.open_low) << ps[j].name;
+    EXPECT_FALSE(iv.open_high) << ps[j].name;
+    EXPECT_LT(iv.hi / iv.lo, ps[j].hi / ps[j].lo) << ps[j].name;
+    // Gauss-Newton from the grid: within 5 % of the truth (the grid's last step is 33 %).
+    EXPECT_NEAR(r.best[j] / truth[j], 1.0, 0.05) << ps[j].name << " [" << iv.lo << ", " << iv.hi << "]";
+  }
+}
+
+TEST(fit, BadParametersAndCorrectionsExitTwoNamingThem) {
+  test::TempDir d;
+  const std::string data = (std::filesystem::path(AXG_SOURCE_DIR) / "data/bicknell2018/outgrowth-uniform.csv").string();
+  const auto base = d.path() / "base.json";
+  std::ofstream(base) << small_signalling_explant().dump();
+  auto message = [&](const std::string& args) {
+    const std::string cmd = fmt::format("{} fit {} --scene {} --out {}/o {} 2>&1", test::binary(), data, base.string(),
+                                        d.path().string(), args);
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[512];
+    while (p && std::fgets(buf, sizeof buf, p)) out += buf;
+    const int status = p ? pclose(p) : -1;
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : 128, out);
+  };
+  for (const auto& [args, needle] : std::vector<std::pair<std::string, std::string>>{
+           {"--param nonsense", "unknown parameter \"nonsense\""},
+           {"--param r0=0.1:0.01", "--param r0=0.1:0.01: LO and HI"},
+           {"--param r0=-1:2", "--param r0=-1:2: LO and HI"},
+           {"--param r0=a:2", "is not a finite number"},
+           {"--param r0 --param r0", "parameter r0 given twice"},
+           {"--param gain", "does not steer by the SNR model"},
+           {"--correct 0.12", "--correct"},
+           {"--correct 0.12=-1", "--correct"},
+           {"--bias-metric nothing", "--bias-metric: nothing not in"}}) {
+    const auto [rc, out] = message(args);
+    EXPECT_EQ(rc, 2) << args << ": " << out;
+    EXPECT_NE(out.find(needle), std::string::npos) << args << ": " << out;
+    EXPECT_FALSE(std::filesystem::exists(d.path() / "o/fit.json")) << args;
+  }
 }
 
 }  // namespace

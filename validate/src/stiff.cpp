@@ -6,8 +6,11 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
 
 #include "axonguide/core/pmath.hpp"
+#include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/wander.hpp"
 #include "axonguide/cue_setup.hpp"
@@ -15,6 +18,8 @@
 #include "axonguide/fields.hpp"
 #include "axonguide/placement.hpp"
 #include "axonguide/sampler_nd.hpp"
+#include "axonguide/scene.hpp"
+#include "axonguide/signalling_setup.hpp"
 #include "axonguide/threads.hpp"
 #include "axonguide/validate/validate.hpp"
 
@@ -62,6 +67,142 @@ Scan scan_field(const CueField& f, double half) {
 
 bool unit_and_finite(Vec3 h) {
   return std::isfinite(h.x) && std::isfinite(h.y) && std::isfinite(h.z) && std::fabs(core::norm(h) - 1.0) < 1e-14;
+}
+
+// The signalling network's oracle: GSL's adaptive multistep BDF (msbdf) at relative and
+// absolute tolerance tol, from y over time t (minutes) at tip concentration c, inhibition i.
+struct GslSignalling {
+  core::SignallingSystem sys;
+};
+
+int gsl_signal_rhs(double, const double y[], double f[], void* p) {
+  static_cast<GslSignalling*>(p)->sys.rhs(y, f);
+  return GSL_SUCCESS;
+}
+
+int gsl_signal_jac(double, const double y[], double* dfdy, double dfdt[], void* p) {
+  static_cast<GslSignalling*>(p)->sys.jacobian(y, dfdy);
+  for (int i = 0; i < core::kSignalSpecies; ++i) dfdt[i] = 0.0;
+  return GSL_SUCCESS;
+}
+
+bool signalling_oracle(const core::SignallingParams& q, double c, double i, double* y, double t, double tol) {
+  GslSignalling ctx{{&q, c, i}};
+  gsl_odeiv2_system sys{gsl_signal_rhs, gsl_signal_jac, static_cast<size_t>(core::kSignalSpecies), &ctx};
+  gsl_odeiv2_driver* d = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_msbdf, 1e-6, tol, tol);
+  double t0 = 0;
+  const int status = gsl_odeiv2_driver_apply(d, &t0, t, y);
+  gsl_odeiv2_driver_free(d);
+  return status == GSL_SUCCESS;
+}
+
+// Bicknell et al. 2018's Table 1 in /min and nM (the scene defaults).
+core::SignallingParams table1_params() {
+  Scene s;
+  s.units.length = "um";
+  s.units.time = "min";
+  s.units.concentration = "nM";
+  s.axons.growth_model = GrowthModel::kSignalling;
+  return signalling_params(s);
+}
+
+// The signalling network (core/signalling.hpp, ROS2): its extremes against the oracle, and
+// its error against run time.
+void validate_signalling(const Options& o, Report& r) {
+  const core::SignallingParams base = table1_params();
+  auto inhibition = [](const core::SignallingParams& q, double c) { return core::bound_receptors(q.It, q.kpI, q.kmI, c); };
+  // One 48 h integration from the cell body's steady state, the tip at ct: ROS2 in `steps`
+  // steps against the oracle; the length grown R is the model's output.
+  struct Outcome {
+    core::StiffStatus status;
+    bool in_range;
+    double r_ros2, r_oracle, max_rel;
+  };
+  auto integrate = [&](const core::SignallingParams& q, double cb, double ct, int steps) {
+    double y[core::kSignalSpecies], ref[core::kSignalSpecies];
+    const double i = inhibition(q, cb);
+    core::signalling_steady_state(q, cb, i, y);
+    std::copy(y, y + core::kSignalSpecies, ref);
+    const core::SignallingStep st = core::signalling_step(q, y, ct, i, 2880.0, steps);
+    Outcome out{st.status, true, y[core::kSR], 0.0, 0.0};
+    for (int k = 0; k < core::kSignalSpecies; ++k)
+      out.in_range = out.in_range && std::isfinite(y[k]) && y[k] >= 0.0 && (k != core::kSF || y[k] <= q.Ft);
+    if (!signalling_oracle(q, ct, i, ref, 2880.0, 1e-10)) out.r_oracle = std::nan("");
+    else out.r_oracle = ref[core::kSR];
+    for (int k = 0; k < core::kSignalSpecies; ++k)
+      out.max_rel = std::max(out.max_rel, std::fabs(y[k] - ref[k]) / (std::fabs(ref[k]) + 1e-9 * (1 + std::fabs(ref[k]))));
+    return out;
+  };
+  r.text("The signalling network (docs/methods.md §2.10): 48 h of ROS2 at the scene's step (30 min, 96 steps) "
+         "from the cell body's steady state, the tip at 1 to 10 times the cell body's concentration. A case passes "
+         "when every species stays finite and in its range (>= 0, F <= F_t) and the length grown R is within 1 % "
+         "of GSL's msbdf at tolerance 1e-10.");
+  // Concentrations from 1e-6 to 1e4 nM.
+  for (double cb : {1e-6, 1e-3, 0.1, 1.0, 1e2, 1e4}) {
+    const Outcome e = integrate(base, cb, cb * 1.1, 96);
+    const bool ok = e.status == core::StiffStatus::kOk && e.in_range && std::fabs(e.r_ros2 - e.r_oracle) <= 0.01 * e.r_oracle;
+    r.check({fmt::format("signalling at C = {} nM (tip 1.1x)", num(cb)), ok,
+             fmt::format("R = {} um, oracle {} um", num(e.r_ros2), num(e.r_oracle)), "in range, R within 1 %",
+             ok ? "within" : "outside"});
+  }
+  // Every rate constant x or / 10^3, at the biphasic peak's 0.3 nM, the tip 10x.
+  {
+    struct Rate {
+      const char* name;
+      double core::SignallingParams::*field;
+    };
+    const Rate rates[] = {{"kpA", &core::SignallingParams::kpA}, {"kmA", &core::SignallingParams::kmA},
+                          {"kpI", &core::SignallingParams::kpI}, {"kr", &core::SignallingParams::kr},
+                          {"kdegA", &core::SignallingParams::kdegA}, {"ka", &core::SignallingParams::ka},
+                          {"a2", &core::SignallingParams::a2},   {"b2", &core::SignallingParams::b2},
+                          {"g1", &core::SignallingParams::g1},   {"a6", &core::SignallingParams::a6},
+                          {"b6", &core::SignallingParams::b6},   {"a1", &core::SignallingParams::a1},
+                          {"b1", &core::SignallingParams::b1},   {"b0", &core::SignallingParams::b0}};
+    int passed = 0, total = 0;
+    std::string worst;
+    double worst_err = 0;
+    for (const Rate& rate : rates)
+      for (double f : {1e-3, 1e3}) {
+        core::SignallingParams q = base;
+        q.*rate.field *= f;
+        const Outcome e = integrate(q, 0.3, 3.0, 96);
+        const double err = std::fabs(e.r_ros2 - e.r_oracle) / e.r_oracle;
+        const bool ok = e.status == core::StiffStatus::kOk && e.in_range && err <= 0.01;
+        passed += ok;
+        ++total;
+        if (!ok || !(err <= worst_err)) {  // the worst case (a failure, or a NaN, first)
+          worst = fmt::format("{} x {}: R error {}", rate.name, num(f), num(err));
+          worst_err = ok ? err : HUGE_VAL;
+        }
+      }
+    r.check({"signalling with each of 14 rate constants x or / 10^3 (28 cases)", passed == total,
+             fmt::format("{} of {} in range and within 1 %; largest: {}", passed, total, worst), "all", ""});
+  }
+  // Error against run time: 48 h at 0.3 nM, the tip at 0.33 nM, 24 to 1536 steps.
+  std::vector<int> steps{24, 48, 96, 192, 384, 768, 1536};
+  if (o.quick) steps.resize(4);
+  std::vector<double> errs, secs;
+  for (int n : steps) {
+    const int reps = std::max(1, 20000 / n);
+    const auto t0 = std::chrono::steady_clock::now();
+    double y[core::kSignalSpecies];
+    for (int rep = 0; rep < reps; ++rep) {
+      core::signalling_steady_state(base, 0.3, inhibition(base, 0.3), y);
+      core::signalling_step(base, y, 0.33, inhibition(base, 0.3), 2880.0, n);
+    }
+    secs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / reps);
+    errs.push_back(integrate(base, 0.3, 0.33, n).max_rel);
+  }
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t k = 0; k < steps.size(); ++k)
+    rows.push_back({std::to_string(steps[k]), num(2880.0 / steps[k]), num(errs[k]), fmt::format("{:.2f}", 1e6 * secs[k]),
+                    k ? fmt::format("{:.2f}", std::log2(errs[k - 1] / errs[k])) : ""});
+  r.text("Error against run time (48 h at 0.3 nM, the tip at 0.33 nM; one thread):");
+  r.table({"steps per 48 h", "step (min)", "max relative error vs msbdf", "time per axon (us)", "order"}, rows,
+          "signalling_work_precision.csv");
+  const double order = std::log2(errs[errs.size() - 2] / errs.back());
+  r.check({"signalling ROS2: observed order against the step (finest pair)", order > 1.7 && order < 2.5,
+           fmt::format("{:.2f}", order), "2 (between 1.7 and 2.5)", ""});
 }
 
 }  // namespace
@@ -238,6 +379,7 @@ void validate_stiff(const Options& o, Report& r) {
     r.check({"rejection sampler at d = 20 refuses (acceptance collapses)", what.find("acceptance rate") != std::string::npos,
              what.substr(0, 90), "InputError naming the acceptance rate", ""});
   }
+  validate_signalling(o, r);
 }
 
 }  // namespace axg::validate

@@ -6,7 +6,8 @@
 // image (so that the explant's random asymmetry cancels), with the same seeds for every
 // parameter set. The seed count is raised until the model's SE is below a third of the
 // data's at every point. The search is a coarse logarithmic grid, then finer grids around
-// the best; each parameter gets a profile-likelihood interval.
+// the best, then Gauss-Newton steps from the grid's best; each parameter gets a
+// profile-likelihood interval.
 //
 // Parameters by name: "gain" (guidance.gain), "kd" (every source's K_d), "scale" (a factor
 // on the nominal concentrations), or a signalling parameter of kSignalTable (in its
@@ -75,6 +76,7 @@ struct Options {
   std::string bias_metric;       // the assay metric a bias column is compared with; "": by model
   int coarse = 7;                // grid points per parameter, coarse round
   int refine_rounds = 2;         // each a 5-point grid per parameter over ±1 previous step
+  int polish_iterations = 4;     // Gauss-Newton steps from the grid's best (0: none)
   RunOptions run;
 };
 
@@ -86,11 +88,13 @@ struct Evaluation {
 
 // A profile-likelihood interval: the parabola through the profile's lowest value and its
 // neighbours, cut at the minimum + delta (delta = 3.84 for 95 %, scaled by chi2/dof where
-// that is above 1). open_low/high: the interval reaches the searched range's edge.
+// that is above 1), widened to the linearised profile (Gauss-Newton's J'WJ at the best)
+// where that is wider. open_low/high: the interval reaches the searched range's edge.
 struct Interval {
   double best = 0;          // the grid's best value
   double lo = 0, hi = 0;    // the interval
   bool open_low = false, open_high = false;
+  bool linearised = false;  // widened by the linearised profile at the polished best
 };
 
 // One residual: data point `point`'s measure `measure`.
@@ -116,6 +120,7 @@ struct Result {
   std::vector<std::uint64_t> seeds;     // used for every parameter set
   double se_ratio_max = 0;              // max over residuals of model SE / data SE, at the best
   std::size_t runs = 0;
+  bool polished = false;                // the Gauss-Newton polish lowered chi2
 };
 
 Result fit(const nlohmann::json& base_scene, const std::string& origin, const Data& data, const Options& options);

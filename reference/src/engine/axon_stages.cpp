@@ -110,9 +110,9 @@ void throw_signalling_failure(const Scene& scene, const SignallingFailure& f, st
                                                                  : "a species left its range (below 0, or F above F_t)";
   throw RunError(fmt::format(
       "signalling: the stiff step of axon {} failed at step {} ({}{}{}), with axons.signalling.substeps = {} ROS2 steps "
-      "of {} per growth step; give more sub-steps",
+      "of {} {} per growth step; give more sub-steps",
       f.neuron, step, what, f.species >= 0 ? ": species " : "", f.species >= 0 ? names[f.species] : "",
-      scene.axons.signalling.substeps, scene.dt / scene.axons.signalling.substeps));
+      scene.axons.signalling.substeps, scene.dt / scene.axons.signalling.substeps, scene.units.time));
 }
 
 void AxonStages::start_signals(const CueField& field, const std::vector<core::Vec3>& soma,

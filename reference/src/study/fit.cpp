@@ -80,14 +80,14 @@ Data parse_data(const std::string& text, const std::string& path) {
       read = {{"concentration", 0}, {"steepness", 1}, {"count", 2}};
       if (out.measure_count() == 1) {
         const int m = out.measured[kBias] ? kBias : kOutgrowth;
-        if (!col.count("se"))
-          throw InputError(fmt::format("fit: {} line {}: the header must name the column se (the standard error of {}; "
-                                       "missing \"se\")",
-                                       path, n, measure_name(m)));
         for (const char* other : {"bias_se", "outgrowth_se"})
           if (col.count(other))
             throw InputError(fmt::format("fit: {} line {}: column \"{}\" with one measured column: its SE is \"se\"",
                                          path, n, other));
+        if (!col.count("se"))
+          throw InputError(fmt::format("fit: {} line {}: the header must name the column se (the standard error of {}; "
+                                       "missing \"se\")",
+                                       path, n, measure_name(m)));
         read.push_back({measure_name(m), 3 + 2 * m});
         read.push_back({"se", 4 + 2 * m});
       } else {
@@ -313,6 +313,31 @@ Interval profile_interval(const std::vector<Evaluation>& evs, std::size_t k, dou
   return r;
 }
 
+// Solves a x = b (n x n, row-major) by Gaussian elimination with partial pivoting; false
+// when singular.
+bool solve(std::vector<double> a, std::vector<double>& b, std::size_t n) {
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < n; ++r)
+      if (std::fabs(a[r * n + c]) > std::fabs(a[piv * n + c])) piv = r;
+    if (!(std::fabs(a[piv * n + c]) > 0)) return false;
+    if (piv != c) {
+      for (std::size_t k = 0; k < n; ++k) std::swap(a[c * n + k], a[piv * n + k]);
+      std::swap(b[c], b[piv]);
+    }
+    for (std::size_t r = c + 1; r < n; ++r) {
+      const double f = a[r * n + c] / a[c * n + c];
+      for (std::size_t k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (std::size_t c = n; c-- > 0;) {
+    for (std::size_t k = c + 1; k < n; ++k) b[c] -= a[c * n + k] * b[k];
+    b[c] /= a[c * n + c];
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<Parameter> resolve_parameters(const json& base, const std::string& origin, const Data& data,
@@ -433,24 +458,11 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
   r.model_min.assign(r.residuals.size(), HUGE_VAL);
   r.model_max.assign(r.residuals.size(), -HUGE_VAL);
   r.chi2 = HUGE_VAL;
-  for (int round = 0; round <= o.refine_rounds; ++round) {
-    const int n = round == 0 ? o.coarse : 5;
-    std::vector<Params> sets;
-    std::size_t total = 1;
-    for (std::size_t j = 0; j < k; ++j) total *= static_cast<std::size_t>(n);
-    for (std::size_t idx = 0; idx < total; ++idx) {
-      Params p(k);
-      std::size_t rest = idx;
-      for (std::size_t j = k; j-- > 0;) {  // the first parameter slowest
-        const int i = static_cast<int>(rest % static_cast<std::size_t>(n));
-        rest /= static_cast<std::size_t>(n);
-        p[j] = exp_of(n == 1 ? 0.5 * (lo[j] + hi[j]) : lo[j] + (hi[j] - lo[j]) * i / (n - 1));
-      }
-      sets.push_back(std::move(p));
-    }
+  // Evaluates parameter sets; appends each to r.evaluations (its chi2, model and model SE)
+  // and returns the index of the first.
+  auto score = [&](const std::vector<Params>& sets) {
     const Evaluated ev = evaluate(base, pts, r.parameters, sets, o, r.seeds, r.bias_metric, r.runs);
-    std::size_t best = 0;
-    double best_chi2 = HUGE_VAL;
+    const std::size_t first = r.evaluations.size();
     for (std::size_t e = 0; e < sets.size(); ++e) {
       double chi2 = 0;
       std::vector<double> model, model_se;
@@ -466,17 +478,35 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
       }
       if (!std::isfinite(chi2)) chi2 = kNaN;
       r.evaluations.push_back({sets[e], chi2, model, model_se});
-      if (chi2 < best_chi2) {  // ties: the first evaluated
-        best_chi2 = chi2;
-        best = e;
+    }
+    return first;
+  };
+  // Takes evaluation e as the best where it is lower (ties: the first evaluated).
+  auto consider = [&](std::size_t e) {
+    if (r.evaluations[e].chi2 < r.chi2) {
+      r.chi2 = r.evaluations[e].chi2;
+      r.best = r.evaluations[e].p;
+      r.model = r.evaluations[e].model;
+      r.model_se = r.evaluations[e].model_se;
+    }
+  };
+  for (int round = 0; round <= o.refine_rounds; ++round) {
+    const int n = round == 0 ? o.coarse : 5;
+    std::vector<Params> sets;
+    std::size_t total = 1;
+    for (std::size_t j = 0; j < k; ++j) total *= static_cast<std::size_t>(n);
+    for (std::size_t idx = 0; idx < total; ++idx) {
+      Params p(k);
+      std::size_t rest = idx;
+      for (std::size_t j = k; j-- > 0;) {  // the first parameter slowest
+        const int i = static_cast<int>(rest % static_cast<std::size_t>(n));
+        rest /= static_cast<std::size_t>(n);
+        p[j] = exp_of(n == 1 ? 0.5 * (lo[j] + hi[j]) : lo[j] + (hi[j] - lo[j]) * i / (n - 1));
       }
+      sets.push_back(std::move(p));
     }
-    if (best_chi2 < r.chi2) {
-      r.chi2 = best_chi2;
-      r.best = sets[best];
-      r.model = r.evaluations[r.evaluations.size() - sets.size() + best].model;
-      r.model_se = r.evaluations[r.evaluations.size() - sets.size() + best].model_se;
-    }
+    const std::size_t first = score(sets);
+    for (std::size_t e = first; e < r.evaluations.size(); ++e) consider(e);
     if (r.best.empty()) throw RunError("fit: no parameter set gave a defined model at every data point");
     // The next grid spans one step of this one on either side of the best point.
     for (std::size_t j = 0; j < k; ++j) {
@@ -486,9 +516,85 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
       hi[j] = c + step;
     }
   }
+  // The polish: Gauss-Newton in log parameters from the grid's best. Each iteration takes
+  // the model's Jacobian J by forward differences (common seeds make them smooth), solves
+  // (J'WJ) z = J'W (data - model), W = 1 / (se^2 + model se^2), limits z to the last
+  // window, and keeps the step (or its half) only if chi2 falls. J'WJ at the final point is
+  // the curvature A of chi2 ~ min + z'Az, which widens the intervals below.
+  std::vector<double> curvature;  // A^-1, k x k; empty where it could not be formed
+  for (int it = 0; it <= o.polish_iterations && o.polish_iterations > 0; ++it) {
+    const double delta = 0.02;
+    std::vector<Params> probes;
+    for (std::size_t j = 0; j < k; ++j) {
+      Params p = r.best;
+      p[j] = exp_of(log_of(p[j]) + delta);
+      probes.push_back(p);
+    }
+    const std::size_t first = score(probes);
+    std::vector<double> jac(r.residuals.size() * k), w(r.residuals.size());
+    bool finite = true;
+    for (std::size_t q = 0; q < r.residuals.size(); ++q) {
+      const auto [i, m] = r.residuals[q];
+      w[q] = 1.0 / (data.points[i].se[m] * data.points[i].se[m] + r.model_se[q] * r.model_se[q]);
+      for (std::size_t j = 0; j < k; ++j) {
+        jac[q * k + j] = (r.evaluations[first + j].model[q] - r.model[q]) / delta;
+        finite = finite && std::isfinite(jac[q * k + j]);
+      }
+    }
+    if (!finite) break;
+    std::vector<double> a(k * k, 0.0), g(k, 0.0);
+    for (std::size_t q = 0; q < r.residuals.size(); ++q) {
+      const auto [i, m] = r.residuals[q];
+      const double res = data.points[i].value[m] - r.model[q];
+      for (std::size_t j = 0; j < k; ++j) {
+        g[j] += jac[q * k + j] * w[q] * res;
+        for (std::size_t l = 0; l < k; ++l) a[j * k + l] += jac[q * k + j] * w[q] * jac[q * k + l];
+      }
+    }
+    curvature.assign(k * k, 0.0);
+    for (std::size_t col = 0; col < k && !curvature.empty(); ++col) {
+      std::vector<double> e(k, 0.0);
+      e[col] = 1.0;
+      if (!solve(a, e, k)) curvature.clear();
+      else for (std::size_t j = 0; j < k; ++j) curvature[j * k + col] = e[j];
+    }
+    if (curvature.empty() || it == o.polish_iterations) break;
+    std::vector<double> z = g;
+    if (!solve(a, z, k)) break;
+    double shrink = 1.0;  // within the last window: |z_j| <= its half width
+    for (std::size_t j = 0; j < k; ++j) {
+      const double half = 0.5 * (hi[j] - lo[j]);
+      if (std::fabs(z[j]) > half && half > 0) shrink = std::min(shrink, half / std::fabs(z[j]));
+    }
+    const double chi2_before = r.chi2;
+    for (double f : {shrink, 0.5 * shrink}) {
+      Params p(k);
+      for (std::size_t j = 0; j < k; ++j) p[j] = exp_of(log_of(r.best[j]) + f * z[j]);
+      consider(score({p}));
+      if (r.chi2 < chi2_before) break;
+    }
+    r.polished = r.polished || r.chi2 < chi2_before;
+    if (!(r.chi2 < chi2_before - 1e-3 * std::max(1.0, chi2_before))) break;  // converged
+  }
   r.chi2_per_dof = r.chi2 / r.dof;
   r.interval_delta = 3.84 * std::max(1.0, r.chi2_per_dof);
-  for (std::size_t j = 0; j < k; ++j) r.intervals.push_back(profile_interval(r.evaluations, j, r.best[j], r.interval_delta));
+  for (std::size_t j = 0; j < k; ++j) {
+    Interval iv = profile_interval(r.evaluations, j, r.best[j], r.interval_delta);
+    // The linearised profile, Delta chi2 = z_j^2 / (A^-1)_jj, widens the grid's where it is
+    // wider (a profile over the narrowed windows of the later rounds can only be too steep).
+    if (!curvature.empty() && curvature[j * k + j] > 0) {
+      const double h = std::sqrt(r.interval_delta * curvature[j * k + j]), zc = log_of(r.best[j]);
+      iv.lo = std::min(iv.lo, exp_of(zc - h));
+      iv.hi = std::max(iv.hi, exp_of(zc + h));
+      iv.open_low = iv.open_low || zc - h < log_of(r.parameters[j].lo);
+      iv.open_high = iv.open_high || zc + h > log_of(r.parameters[j].hi);
+      iv.linearised = true;
+    }
+    iv.best = r.best[j];
+    iv.lo = std::min(iv.lo, iv.best);
+    iv.hi = std::max(iv.hi, iv.best);
+    r.intervals.push_back(iv);
+  }
   for (std::size_t q = 0; q < r.residuals.size(); ++q) {
     const auto [i, m] = r.residuals[q];
     const double v = data.points[i].value[m], s = data.points[i].se[m];

@@ -1,0 +1,62 @@
+// The signalling growth model at the command line: a stiff step that leaves a species'
+// range stops the run with exit 3 naming the axon, the step and the species, on both
+// engines alike, and leaves no outputs (docs/methods.md §2.10).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+using nlohmann::json;
+
+std::pair<int, std::string> run_command(const std::string& args) {
+  const std::string cmd = fmt::format("{} {} 2>&1", test::binary(), args);
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[512];
+  while (p && std::fgets(buf, sizeof buf, p)) out += buf;
+  const int status = p ? pclose(p) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, out};
+}
+
+TEST(signalling_command, AFailedStiffStepIsExitThreeNamingWhereOnBothEngines) {
+  test::TempDir d;
+  json s = json::parse(test::read_file(std::filesystem::path(AXG_SOURCE_DIR) / "scenes/assay-bicknell.json"));
+  // A 10 h growth step of ~600 um up a 5 %/10 um gradient, one ROS2 step, transport 4 x 10^5
+  // times Table 1's: the step leaves a species' range.
+  s["steps"] = 4;
+  s["dt"] = 10;
+  s["neurons"]["count"] = 20;
+  s["cues"]["imposed"]["steepness"] = 5;
+  s["axons"]["signalling"].update(json{{"kr", "1e3 /min"}, {"ka", "1e3 /min"}, {"r0", "1 um/min"}});
+  const auto scene = d.path() / "scene.json";
+  std::ofstream(scene) << s.dump();
+  std::string first;
+  for (const char* backend : {"reference", "emulated"}) {
+    const auto out = d.path() / backend;
+    const auto [rc, text] = run_command(fmt::format("run {} --out {} -q --backend {}", scene.string(), out.string(), backend));
+    EXPECT_EQ(rc, 3) << backend << ": " << text;
+    EXPECT_NE(text.find("the stiff step of axon 1 failed at step 2"), std::string::npos) << text;
+    EXPECT_NE(text.find("species F"), std::string::npos) << text;
+    EXPECT_NE(text.find("ROS2 steps of 10 h"), std::string::npos) << text;
+    EXPECT_FALSE(std::filesystem::exists(out / "neurons.csv")) << backend;
+    if (first.empty()) first = text;
+    else EXPECT_EQ(text, first);  // the same failure, the same words
+  }
+  // Eight sub-steps integrate it.
+  s["axons"]["signalling"]["substeps"] = 8;
+  std::ofstream(scene) << s.dump();
+  const auto [rc, text] = run_command(fmt::format("run {} --out {}/ok -q", scene.string(), d.path().string()));
+  EXPECT_EQ(rc, 0) << text;
+}
+
+}  // namespace
+}  // namespace axg

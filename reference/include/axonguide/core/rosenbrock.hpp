@@ -9,9 +9,9 @@
 //   y_(n+1) = y_n + (3/2) tau k1 + (1/2) tau k2.
 //
 // Second order for any W (it is also a W-method), L-stable (its stability function tends to
-// 0 at infinity), and its work is fixed: one Jacobian, one LU factorisation of W with
-// partial pivoting, two solves and two evaluations of f per step; no Newton iteration, so
-// nothing can fail to converge. What can fail is reported: a singular W, a result that is
+// 0 at infinity), and its work is fixed: one factorisation of W (the system's own
+// structured one, or dense LU with partial pivoting, DenseLinear), two solves and two
+// evaluations of f per step; no Newton iteration, so nothing can fail to converge. What can fail is reported: a singular W, a result that is
 // not finite, or one below the floor the system gives for a species (its positivity). Only
 // + - * / and sqrt, in a fixed order: the same bytes on every backend.
 #include <cstdint>
@@ -78,28 +78,54 @@ AXG_HDI void lu_solve(const double* a, int n, const int* piv, double* b) {
 
 enum class StiffStatus : std::uint8_t { kOk = 0, kSingular = 1, kNotFinite = 2, kOutOfRange = 3 };
 
+// A system's linear solves with W = I - h J(y) by dense LU with partial pivoting: the
+// generic way for a system that provides only its Jacobian (and the check of a system's own
+// structured solves). `System` provides int size() and void jacobian(const double* y,
+// double* j) (row-major df_i/dy_j).
+struct DenseFactor {
+  double w[kMaxStiff * kMaxStiff];
+  int piv[kMaxStiff];
+};
+
+template <class System>
+struct DenseLinear {
+  const System* sys;
+  using Factor = DenseFactor;
+  AXG_HDI int size() const { return sys->size(); }
+  AXG_HDI double floor(int i) const { return sys->floor(i); }
+  AXG_HDI double ceiling(int i) const { return sys->ceiling(i); }
+  AXG_HDI void rhs(const double* y, double* f) const { sys->rhs(y, f); }
+  AXG_HDI bool factor(const double* y, double h, Factor& f) const {
+    const int n = sys->size();
+    sys->jacobian(y, f.w);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) f.w[i * n + j] = (i == j ? 1.0 : 0.0) - h * f.w[i * n + j];
+    return lu_factor(f.w, n, f.piv);
+  }
+  AXG_HDI void solve(const Factor& f, double* b) const { lu_solve(f.w, sys->size(), f.piv, b); }
+};
+
 // One ROS2 step of size tau: `sys` provides int size(), void rhs(const double* y, double*
-// f), void jacobian(const double* y, double* j) (row-major df_i/dy_j), and double floor(int
-// i) and ceiling(int i), the range species i must stay in (its positivity, and a total it
-// cannot exceed). y is updated in place; on failure it is left as it was and *species names
-// the first offending species (or -1).
+// f), the linear solves with W = I - gamma tau J(y) (a type Factor; bool factor(const
+// double* y, double h, Factor&), false where W is singular; void solve(const Factor&,
+// double* b), b <- W^-1 b in place), and double floor(int i) and ceiling(int i), the range
+// species i must stay in (its positivity, and a total it cannot exceed). y is updated in
+// place; on failure it is left as it was and *species names the first offending species
+// (or -1).
 template <class System>
 AXG_HDI StiffStatus ros2_step(const System& sys, double* y, double tau, int* species) {
   const int n = sys.size();
   const double g = ros2_gamma();
-  double w[kMaxStiff * kMaxStiff], k1[kMaxStiff], k2[kMaxStiff], y1[kMaxStiff];
-  int piv[kMaxStiff];
-  sys.jacobian(y, w);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) w[i * n + j] = (i == j ? 1.0 : 0.0) - (g * tau) * w[i * n + j];
+  typename System::Factor w;
+  double k1[kMaxStiff], k2[kMaxStiff], y1[kMaxStiff];
   *species = -1;
-  if (!lu_factor(w, n, piv)) return StiffStatus::kSingular;
+  if (!sys.factor(y, g * tau, w)) return StiffStatus::kSingular;
   sys.rhs(y, k1);
-  lu_solve(w, n, piv, k1);
+  sys.solve(w, k1);
   for (int i = 0; i < n; ++i) y1[i] = y[i] + tau * k1[i];
   sys.rhs(y1, k2);
   for (int i = 0; i < n; ++i) k2[i] = k2[i] - 2.0 * k1[i];
-  lu_solve(w, n, piv, k2);
+  sys.solve(w, k2);
   double next[kMaxStiff];
   for (int i = 0; i < n; ++i) {
     next[i] = y[i] + (1.5 * tau) * k1[i] + (0.5 * tau) * k2[i];

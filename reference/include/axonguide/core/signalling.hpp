@@ -71,6 +71,81 @@ struct SignallingSystem {
     f[kSR] = q.r0 + q.kext * y[kSGs];
   }
 
+  // The linear solves of ROS2 with W = I - h J(y), by W's structure: J is block lower
+  // triangular in the order A, Ic, Ac, (X, Zx), (Y, Zy), F, (G, Gs), R, with blocks of 1 or 2
+  // species, so W x = b is a forward substitution with 2 x 2 solves by Cramer's rule. For
+  // non-negative species every pivot is >= 1 and each 2 x 2 determinant >= 1 (each is 1 plus
+  // sums of products of non-negative rates), so W is never singular. About 100 operations,
+  // against about 900 for dense LU of 11 x 11 and its two solves.
+  struct Factor {
+    double h;
+    double dA, dIc, dAc, wAcA;                       // pivots, and Ac's coupling to A
+    double xx, xz, zx, zz, xAc, zAc, detX;           // (X, Zx): W block, couplings to Ac
+    double yy, yz, zy, zzy, zyAc, detY;              // (Y, Zy)
+    double dF, fX, fY;                               // F, its couplings to X and Y
+    double gg, ggs, sg, ss, gF, gA, gIc, sA, sIc, detG;  // (G, Gs)
+    double rGs;                                      // R's coupling to Gs
+  };
+
+  AXG_HDI bool factor(const double* y, double h, Factor& w) const {
+    const SignallingParams& q = *p;
+    w.h = h;
+    w.dA = 1.0 + h * (q.kpA * c + q.kmA);
+    w.dIc = 1.0 + h * q.kdegI;
+    w.dAc = 1.0 + h * q.kdegA;
+    w.wAcA = h * q.kr;
+    w.xx = 1.0 + h * (q.b2 + q.g1 * y[kSZx]);
+    w.xz = h * (q.g1 * y[kSX]);
+    w.zx = h * (q.g1 * y[kSZx]);
+    w.zz = 1.0 + h * (q.b4 + q.g1 * y[kSX]);
+    w.xAc = h * q.a2;
+    w.zAc = h * (q.a4 * i);
+    w.detX = w.xx * w.zz - w.xz * w.zx;
+    w.yy = 1.0 + h * (q.b3 + q.g2 * y[kSZy]);
+    w.yz = h * (q.g2 * y[kSY]);
+    w.zy = h * (q.g2 * y[kSZy]);
+    w.zzy = 1.0 + h * (q.b5 + q.g2 * y[kSY]);
+    w.zyAc = h * (q.a5 * i);
+    w.detY = w.yy * w.zzy - w.yz * w.zy;
+    const double u = q.Ft - y[kSF], ku = q.kX + u, kf = q.kY + y[kSF];
+    w.dF = 1.0 + h * (q.a6 * y[kSX] * q.kX / (ku * ku) + q.b6 * y[kSY] * q.kY / (kf * kf));
+    w.fX = h * (q.a6 * u / ku);
+    w.fY = -h * (q.b6 * y[kSF] / kf);
+    const double k = q.a1 * y[kSA] + q.a1b;
+    w.gg = 1.0 + h * (k + q.b0);
+    w.ggs = -h * (q.b1 * y[kSIc]);
+    w.sg = -h * k;
+    w.ss = 1.0 + h * (q.b1 * y[kSIc] + q.b0);
+    w.gF = h * q.aF;
+    w.gA = -h * (q.a1 * y[kSG]);
+    w.gIc = h * (q.b1 * y[kSGs]);
+    w.sA = h * (q.a1 * y[kSG]);
+    w.sIc = -h * (q.b1 * y[kSGs]);
+    w.detG = w.gg * w.ss - w.ggs * w.sg;
+    w.rGs = h * q.kext;
+    return w.detX > 0.0 && w.detY > 0.0 && w.detG > 0.0 && w.dF > 0.0;
+  }
+
+  // b <- W^-1 b: rows of W are (I - hJ), so each row's coupling terms move to the right
+  // with the sign of +hJ.
+  AXG_HDI void solve(const Factor& w, double* b) const {
+    b[kSA] = b[kSA] / w.dA;
+    b[kSIc] = b[kSIc] / w.dIc;
+    b[kSAc] = (b[kSAc] + w.wAcA * b[kSA]) / w.dAc;
+    const double rx = b[kSX] + w.xAc * b[kSAc], rz = b[kSZx] + w.zAc * b[kSAc];
+    b[kSX] = (rx * w.zz - w.xz * rz) / w.detX;
+    b[kSZx] = (w.xx * rz - w.zx * rx) / w.detX;
+    const double ry = b[kSY], rzy = b[kSZy] + w.zyAc * b[kSAc];
+    b[kSY] = (ry * w.zzy - w.yz * rzy) / w.detY;
+    b[kSZy] = (w.yy * rzy - w.zy * ry) / w.detY;
+    b[kSF] = (b[kSF] + w.fX * b[kSX] + w.fY * b[kSY]) / w.dF;
+    const double rg = b[kSG] + w.gF * b[kSF] + w.gA * b[kSA] + w.gIc * b[kSIc];
+    const double rs = b[kSGs] + w.sA * b[kSA] + w.sIc * b[kSIc];
+    b[kSG] = (rg * w.ss - w.ggs * rs) / w.detG;
+    b[kSGs] = (w.gg * rs - w.sg * rg) / w.detG;
+    b[kSR] = b[kSR] + w.rGs * b[kSGs];
+  }
+
   // Row-major df_i / dy_j.
   AXG_HDI void jacobian(const double* y, double* j) const {
     const SignallingParams& q = *p;

@@ -209,8 +209,10 @@ std::string describe(const std::vector<Parameter>& ps, const Params& p) {
 }
 
 // Runs every (parameter set, mirror, point, seed) in one parallel loop; returns each
-// measure's mean and SE over seeds per set and point. Per seed, a mirrored pair gives
-// bias (b+ - b-) / 2 and outgrowth (o+ + o-) / 2.
+// measure's mean and SE over seeds per set and point. Per seed, a mirrored pair gives the
+// mean of its two values, each measured along its own run's gradient axis: the explant's
+// random asymmetry (the same in both, since the seed is) adds +a to one bias and -a to the
+// other, and cancels.
 Evaluated evaluate(const json& base, const std::vector<std::pair<double, double>>& pts,
                    const std::vector<Parameter>& ps, const std::vector<Params>& sets, const Options& o,
                    const std::vector<std::uint64_t>& seeds, const std::string& bias_metric, std::size_t& runs) {
@@ -241,7 +243,7 @@ Evaluated evaluate(const json& base, const std::vector<std::pair<double, double>
             x[j] = a;
           } else {
             const double b = sweep::metric(results[e * per + per_side + i * S + j], names[m]);
-            x[j] = m == kBias ? 0.5 * (a - b) : 0.5 * (a + b);
+            x[j] = 0.5 * (a + b);
           }
         }
         const sweep::MeanSe s = sweep::mean_se(x);
@@ -561,11 +563,15 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
     if (curvature.empty() || it == o.polish_iterations) break;
     std::vector<double> z = g;
     if (!solve(a, z, k)) break;
-    double shrink = 1.0;  // within the last window: |z_j| <= its half width
+    double shrink = 1.0;  // within the last window (|z_j| <= its half width) and the searched range
     for (std::size_t j = 0; j < k; ++j) {
       const double half = 0.5 * (hi[j] - lo[j]);
       if (std::fabs(z[j]) > half && half > 0) shrink = std::min(shrink, half / std::fabs(z[j]));
+      const double room = z[j] > 0 ? log_of(r.parameters[j].hi) - log_of(r.best[j])
+                                   : log_of(r.best[j]) - log_of(r.parameters[j].lo);
+      if (std::fabs(z[j]) > room) shrink = std::min(shrink, std::max(0.0, room) / std::fabs(z[j]));
     }
+    if (!(shrink > 0)) break;
     const double chi2_before = r.chi2;
     for (double f : {shrink, 0.5 * shrink}) {
       Params p(k);
@@ -591,6 +597,9 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
       iv.linearised = true;
     }
     iv.best = r.best[j];
+    // An open side ends at the searched range's edge (the data do not bound it there).
+    if (iv.open_low) iv.lo = r.parameters[j].lo;
+    if (iv.open_high) iv.hi = r.parameters[j].hi;
     iv.lo = std::min(iv.lo, iv.best);
     iv.hi = std::max(iv.hi, iv.best);
     r.intervals.push_back(iv);

@@ -151,3 +151,27 @@ def test_fit_refuses_bad_data_and_options(tmp_path):
         axonguide.fit({"neurons": {"count": 10}}, DATA, seeds=1, grid=2, refine=0)
     with pytest.raises(axonguide.SceneError):
         axonguide.fit({"neurons": {"count": -1}}, DATA)
+
+
+def test_fit_of_signalling_outgrowth_from_columns_equals_the_command(tmp_path):
+    base = json.loads((SCENES / "assay-bicknell.json").read_text())
+    base["neurons"]["count"] = 40
+    base["steps"] = 30
+    base["dt"] = 1.6
+    (tmp_path / "base.json").write_text(json.dumps(base))
+    cols = {"concentration": [0.001, 0.1, 10.0, 100.0], "steepness": [0.0, 0.0, 0.2, 0.2],
+            "outgrowth": [330.0, 600.0, 280.0, 220.0], "se": [10.0, 20.0, 10.0, 10.0], "count": [20, 20, 20, 20]}
+    (tmp_path / "data.csv").write_text(",".join(cols) + "\n" + "".join(
+        ",".join(str(cols[c][i]) for c in cols) + "\n" for i in range(4)))
+    f = axonguide.fit(tmp_path / "base.json", cols, seeds=2, grid=3, refine=0, polish=1, threads=2,
+                      params=[("r0", 0.02, 0.2), "kext"], corrections={0.2: 1.5})
+    assert f.parameters == ["r0", "kext"] and set(f.intervals) == {"r0", "kext"}
+    assert f.dof == 2 and f.model.shape == (4,)
+    cli("fit", tmp_path / "data.csv", "--scene", tmp_path / "base.json", "--out", tmp_path / "fit", "--seeds", 2,
+        "--grid", 3, "--refine", 0, "--polish", 1, "--threads", 2, "--param", "r0=0.02:0.2", "--param", "kext",
+        "--correct", "0.2=1.5", "--max-chi2", 1e9)
+    j = json.loads((tmp_path / "fit" / "fit.json").read_text())
+    assert j["measured"] == ["outgrowth"] and j["chi2"] == f.chi2 and j["runs"] == f.runs
+    assert [j["parameters"][p]["best"] for p in ("r0", "kext")] == [f.best["r0"], f.best["kext"]]
+    with pytest.raises(axonguide.InputError, match="unknown column"):
+        axonguide.fit(tmp_path / "base.json", {**cols, "speed": [1, 2, 3, 4]}, seeds=1, grid=2, refine=0)

@@ -521,8 +521,10 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
   // The polish: Gauss-Newton in log parameters from the grid's best. Each iteration takes
   // the model's Jacobian J by forward differences (common seeds make them smooth), solves
   // (J'WJ) z = J'W (data - model), W = 1 / (se^2 + model se^2), limits z to the last
-  // window, and keeps the step (or its half) only if chi2 falls. J'WJ at the final point is
-  // the curvature A of chi2 ~ min + z'Az, which widens the intervals below.
+  // window, and keeps the step (or its half) only if chi2 falls; it stops when chi2 falls by
+  // less than 0.1 %. J'WJ at the last point where J was taken (the best, or one step before
+  // it when the last step converged) is the curvature A of chi2 ~ min + z'Az, which widens
+  // the intervals below.
   std::vector<double> curvature;  // A^-1, k x k; empty where it could not be formed
   for (int it = 0; it <= o.polish_iterations && o.polish_iterations > 0; ++it) {
     const double delta = 0.02;

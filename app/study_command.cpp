@@ -380,7 +380,7 @@ int cmd_fit(const FitArgs& args) {
     params[r.parameters[k].name] = {{"best", r.best[k]},          {"interval_low", iv.lo},
                                     {"interval_high", iv.hi},     {"open_low", iv.open_low},
                                     {"open_high", iv.open_high},  {"coarse_range", {r.parameters[k].lo, r.parameters[k].hi}},
-                                    {"linearised", iv.linearised}};
+                                    {"profiled", iv.profiled}};
   }
   json measured = json::array();
   for (int m = 0; m < fit::kMeasures; ++m)
@@ -393,7 +393,7 @@ int cmd_fit(const FitArgs& args) {
                   {"bias_metric", r.bias_metric},
                   {"parameters", params},
                   {"interval", fmt::format("profile likelihood, chi2 <= min + {:.4g} (3.84 x max(1, chi2/dof)), "
-                                           "widened to the linearised profile at the best where that is wider",
+                                           "each end found on the profile (the other parameters re-fitted there)",
                                            r.interval_delta)},
                   {"polished", r.polished},
                   {"gain", value_of("gain", parsed.scene.guidance.gain)},

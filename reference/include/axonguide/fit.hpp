@@ -77,6 +77,7 @@ struct Options {
   int coarse = 7;                // grid points per parameter, coarse round
   int refine_rounds = 2;         // each a 5-point grid per parameter over ±1 previous step
   int polish_iterations = 4;     // Gauss-Newton steps from the grid's best (0: none)
+  bool profile = true;           // find each interval's ends on the profile (needs the polish)
   RunOptions run;
 };
 
@@ -86,15 +87,16 @@ struct Evaluation {
   std::vector<double> model, model_se;  // per residual (point, measure)
 };
 
-// A profile-likelihood interval: the parabola through the profile's lowest value and its
-// neighbours, cut at the minimum + delta (delta = 3.84 for 95 %, scaled by chi2/dof where
-// that is above 1), widened to the linearised profile (Gauss-Newton's J'WJ at the best)
-// where that is wider. open_low/high: the interval reaches the searched range's edge.
+// A profile-likelihood interval, cut at the minimum + delta (delta = 3.84 for 95 %, scaled
+// by chi2/dof where that is above 1): each end found on the profile itself (the others
+// re-fitted at each trial value, from the linearised guess of Gauss-Newton's J'WJ), or,
+// without the polish, by the parabola through the grid profile's lowest value and its
+// neighbours. open_low/high: the interval reaches the searched range's edge.
 struct Interval {
   double best = 0;          // the grid's best value
   double lo = 0, hi = 0;    // the interval
   bool open_low = false, open_high = false;
-  bool linearised = false;  // widened by the linearised profile at the polished best
+  bool profiled = false;    // each side found on the profile itself (re-fitting the others)
 };
 
 // One residual: data point `point`'s measure `measure`.

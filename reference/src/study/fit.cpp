@@ -586,17 +586,92 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
   }
   r.chi2_per_dof = r.chi2 / r.dof;
   r.interval_delta = 3.84 * std::max(1.0, r.chi2_per_dof);
+  // The profile of parameter j at log value x: the lowest chi2 over the others, from the
+  // linearised conditional minimum (z_o = C_oj / C_jj dz_j, C = (J'WJ)^-1) and one
+  // Gauss-Newton step of the others from there.
+  auto profile_at = [&](std::size_t j, double x) {
+    const double dz = x - log_of(r.best[j]);
+    Params p0 = r.best;
+    for (std::size_t l = 0; l < k; ++l)
+      p0[l] = exp_of(l == j ? x : log_of(r.best[l]) + curvature[l * k + j] / curvature[j * k + j] * dz);
+    const std::size_t e0 = score({p0});
+    double lowest = r.evaluations[e0].chi2;
+    if (k == 1 || !std::isfinite(lowest)) return lowest;
+    const double delta = 0.02;
+    std::vector<Params> probes;
+    std::vector<std::size_t> others;
+    for (std::size_t l = 0; l < k; ++l)
+      if (l != j) {
+        Params p = p0;
+        p[l] = exp_of(log_of(p[l]) + delta);
+        probes.push_back(p);
+        others.push_back(l);
+      }
+    const std::size_t first = score(probes);
+    const std::size_t ko = others.size();
+    std::vector<double> a(ko * ko, 0.0), g(ko, 0.0);
+    const Evaluation& at = r.evaluations[e0];
+    for (std::size_t q = 0; q < r.residuals.size(); ++q) {
+      const auto [i, m] = r.residuals[q];
+      const double w = 1.0 / (data.points[i].se[m] * data.points[i].se[m] + at.model_se[q] * at.model_se[q]);
+      const double res = data.points[i].value[m] - at.model[q];
+      for (std::size_t u = 0; u < ko; ++u) {
+        const double ju = (r.evaluations[first + u].model[q] - at.model[q]) / delta;
+        g[u] += ju * w * res;
+        for (std::size_t v = 0; v < ko; ++v)
+          a[u * ko + v] += ju * w * (r.evaluations[first + v].model[q] - at.model[q]) / delta;
+      }
+    }
+    for (std::size_t u = 0; u < ko; ++u) lowest = std::min(lowest, r.evaluations[first + u].chi2);
+    if (!solve(a, g, ko)) return lowest;
+    Params p1 = p0;
+    for (std::size_t u = 0; u < ko; ++u) {
+      const std::size_t l = others[u];
+      const double z = std::max(log_of(r.parameters[l].lo), std::min(log_of(r.parameters[l].hi), log_of(p0[l]) + g[u]));
+      p1[l] = exp_of(z);
+    }
+    const double c1 = r.evaluations[score({p1})].chi2;
+    return std::min(lowest, c1);
+  };
   for (std::size_t j = 0; j < k; ++j) {
     Interval iv = profile_interval(r.evaluations, j, r.best[j], r.interval_delta);
-    // The linearised profile, Delta chi2 = z_j^2 / (A^-1)_jj, widens the grid's where it is
-    // wider (a profile over the narrowed windows of the later rounds can only be too steep).
-    if (!curvature.empty() && curvature[j * k + j] > 0) {
-      const double h = std::sqrt(r.interval_delta * curvature[j * k + j]), zc = log_of(r.best[j]);
-      iv.lo = std::min(iv.lo, exp_of(zc - h));
-      iv.hi = std::max(iv.hi, exp_of(zc + h));
-      iv.open_low = iv.open_low || zc - h < log_of(r.parameters[j].lo);
-      iv.open_high = iv.open_high || zc + h > log_of(r.parameters[j].hi);
-      iv.linearised = true;
+    // Each side's crossing of min + Delta on the profile itself: from the linearised
+    // half-width h = sqrt(Delta (J'WJ)^-1_jj), a step t -> t sqrt(Delta / dchi2(t)) (exact for
+    // a parabola) until it moves by < 5 %, at most 4 profile points; a crossing beyond the
+    // searched range leaves that side open at the edge. The grid's profile, which can only
+    // be too narrow, is kept where it is wider.
+    if (o.profile && !curvature.empty() && curvature[j * k + j] > 0) {
+      const double zc = log_of(r.best[j]), h = std::sqrt(r.interval_delta * curvature[j * k + j]);
+      for (int side : {-1, 1}) {
+        const double edge = side < 0 ? log_of(r.parameters[j].lo) : log_of(r.parameters[j].hi);
+        double t = side * h;
+        bool open = false;
+        for (int step = 0; step < 4; ++step) {
+          if (side * (zc + t - edge) > 0) t = edge - zc;  // at most the edge
+          const double d = profile_at(j, zc + t) - r.chi2;
+          const bool at_edge = std::fabs(zc + t - edge) < 1e-12;
+          if (!(d > 0)) {  // flat (or lower) here: look twice as far
+            if (at_edge) { open = true; break; }
+            t *= 2;
+            continue;
+          }
+          double next = t * std::sqrt(r.interval_delta / d);
+          if (std::fabs(next) > 4 * std::fabs(t)) next = 4 * t;
+          if (at_edge && d < r.interval_delta) { open = true; break; }
+          const bool done = std::fabs(next - t) < 0.05 * std::fabs(t);
+          t = next;
+          if (done) break;
+        }
+        if (side * (zc + t - edge) >= 0) t = edge - zc, open = true;
+        if (side < 0) {
+          iv.lo = std::min(iv.lo, exp_of(zc + t));
+          iv.open_low = open;
+        } else {
+          iv.hi = std::max(iv.hi, exp_of(zc + t));
+          iv.open_high = open;
+        }
+      }
+      iv.profiled = true;
     }
     iv.best = r.best[j];
     // An open side ends at the searched range's edge (the data do not bound it there).

@@ -107,7 +107,7 @@ void throw_signalling_failure(const Scene& scene, const SignallingFailure& f, st
   static const char* names[core::kSignalSpecies] = {"A", "Ac", "Ic", "X", "Y", "Zx", "Zy", "F", "G", "Gs", "R"};
   const char* what = f.status == core::StiffStatus::kSingular    ? "the implicit system was singular"
                      : f.status == core::StiffStatus::kNotFinite ? "a species was not finite"
-                                                                 : "a species left its range (below 0, or F above F_t)";
+                                                                 : "a species left its range (below 0, A above A_t or F above F_t)";
   throw RunError(fmt::format(
       "signalling: the stiff step of axon {} failed at step {} ({}{}{}), with axons.signalling.substeps = {} ROS2 steps "
       "of {} {} per growth step; give more sub-steps",

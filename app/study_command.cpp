@@ -45,16 +45,23 @@ std::string read_file(const fs::path& p, const char* what) {
   return ss.str();
 }
 
-double number(const std::string& s, const std::string& where) {
+// The whole of s as a number (std::stod's syntax), or nothing.
+std::optional<double> parse_number(const std::string& s) {
   std::size_t used = 0;
   double v = 0;
   try {
     v = std::stod(s, &used);
   } catch (const std::exception&) {
-    used = 0;
+    return std::nullopt;
   }
-  if (used != s.size() || s.empty()) throw InputError(fmt::format("{}: \"{}\" is not a number", where, s));
+  if (used != s.size() || s.empty()) return std::nullopt;
   return v;
+}
+
+double number(const std::string& s, const std::string& where) {
+  const std::optional<double> v = parse_number(s);
+  if (!v) throw InputError(fmt::format("{}: \"{}\" is not a number", where, s));
+  return *v;
 }
 
 }  // namespace
@@ -240,21 +247,15 @@ fit::Parameter parse_param(const std::string& text) {
   if (eq == std::string::npos) return p;
   const std::string range = text.substr(eq + 1);
   const std::size_t colon = range.find(':');
-  auto number = [&](const std::string& v) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(v, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != v.size() || v.empty() || !std::isfinite(x))
+  auto finite = [&](const std::string& v) {
+    const std::optional<double> x = parse_number(v);
+    if (!x || !std::isfinite(*x))
       throw InputError(fmt::format("fit: --param {}: \"{}\" is not a finite number (NAME=LO:HI)", text, v));
-    return x;
+    return *x;
   };
   if (colon == std::string::npos) throw InputError(fmt::format("fit: --param {}: must be NAME or NAME=LO:HI", text));
-  p.lo = number(range.substr(0, colon));
-  p.hi = number(range.substr(colon + 1));
+  p.lo = finite(range.substr(0, colon));
+  p.hi = finite(range.substr(colon + 1));
   if (!(p.lo > 0) || !(p.hi > p.lo))
     throw InputError(fmt::format("fit: --param {}: LO and HI must be > 0 with LO below HI", text));
   return p;
@@ -263,15 +264,9 @@ fit::Parameter parse_param(const std::string& text) {
 std::pair<double, double> parse_correction(const std::string& text) {
   const std::size_t eq = text.find('=');
   double s = -1, f = -1;
-  try {
-    if (eq != std::string::npos) {
-      std::size_t u1 = 0, u2 = 0;
-      s = std::stod(text.substr(0, eq), &u1);
-      f = std::stod(text.substr(eq + 1), &u2);
-      if (u1 != eq || u2 != text.size() - eq - 1) s = -1;
-    }
-  } catch (const std::exception&) {
-    s = -1;
+  if (eq != std::string::npos) {
+    const std::optional<double> a = parse_number(text.substr(0, eq)), b = parse_number(text.substr(eq + 1));
+    if (a && b) s = *a, f = *b;
   }
   if (!(s >= 0) || !(f > 0) || !std::isfinite(s) || !std::isfinite(f))
     throw InputError(fmt::format("fit: --correct {}: must be STEEPNESS=FACTOR with STEEPNESS >= 0 and FACTOR > 0", text));
@@ -312,11 +307,7 @@ int cmd_fit(const FitArgs& args) {
   // concentrations, corrected as the points are).
   std::vector<double> steep;
   double cmin = HUGE_VAL, cmax = 0;
-  auto factor = [&](double s) {
-    for (const auto& [cs, f] : o.corrections)
-      if (std::fabs(cs - s) <= 1e-9 * std::max(1.0, std::fabs(cs))) return f;
-    return 1.0;
-  };
+  auto factor = [&](double s) { return fit::correction_factor(o, s); };
   for (const auto& d : data.points) {
     if (std::find(steep.begin(), steep.end(), d.steepness) == steep.end()) steep.push_back(d.steepness);
     cmin = std::min(cmin, d.concentration * factor(d.steepness));

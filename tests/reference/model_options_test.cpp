@@ -118,6 +118,25 @@ const std::vector<Option>& options() {
          s.axons.growth_speed = 0.7;
          s.axons.step_length = 0.35;
        }},
+      {"signalling growth, population inhibition, SNR steering", [](Scene& s) {
+         s.units = {"um", "min", "nM"};
+         s.dt = 5.0;
+         s.axons.growth_model = GrowthModel::kSignalling;
+         s.axons.signalling.substeps = 2;
+         s.cues.field = FieldKind::kImposed;  // 0.3 nM, 5 % per um
+         s.cues.imposed.concentration = 0.3;
+         s.cues.imposed.steepness = 5.0;
+         s.cues.imposed.reference_length = 1.0;
+       }},
+      {"signalling growth, soma inhibition, radial headings, direct", [](Scene& s) {
+         s.units = {"um", "min", "nM"};
+         s.dt = 5.0;
+         s.axons.growth_model = GrowthModel::kSignalling;
+         s.axons.signalling.population = false;
+         s.neurons.radial_heading = true;
+         s.guidance.model = GuidanceModel::kDirect;
+         s.cues.field = FieldKind::kAnalytic;
+       }},
       {"five mixed sources", [](Scene& s) {
          s.cues.sources.push_back(source(CueKind::kAttractant, std::nullopt, 50, 0.1, 0.02, 0.5));
          s.cues.sources.push_back(source(CueKind::kRepellent, core::Vec3{0.0, -1.0, 0.5}, 120, 0.04, 0.08, 2.0));

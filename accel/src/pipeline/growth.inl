@@ -118,10 +118,7 @@ struct PopulationInhibition {
   const double* d_receptors;
   double* d_inhibition;
   AXG_HD void operator()(std::size_t p) const {
-    double sum = 0.0;
-    for (std::uint64_t i = d_first[p]; i < d_first[p + 1]; ++i) sum += d_receptors[i];
-    const double mean = sum / static_cast<double>(d_first[p + 1] - d_first[p]);
-    for (std::uint64_t i = d_first[p]; i < d_first[p + 1]; ++i) d_inhibition[i] = mean;
+    core::population_inhibition(d_receptors, d_first[p], d_first[p + 1], d_inhibition);
   }
 };
 

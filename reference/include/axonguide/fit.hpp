@@ -127,6 +127,10 @@ struct Result {
 
 Result fit(const nlohmann::json& base_scene, const std::string& origin, const Data& data, const Options& options);
 
+// The factor on the concentration of a data row of this steepness (Options::corrections;
+// the last one given for it, 1 without one).
+double correction_factor(const Options& options, double steepness);
+
 // The model's mean of every measure (and its SE over seeds), mirrored as the fit runs it,
 // at (concentration, steepness) points (concentrations already corrected): out[m][i].
 void predict(const nlohmann::json& base_scene, const std::vector<std::pair<double, double>>& points,

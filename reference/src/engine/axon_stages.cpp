@@ -95,10 +95,7 @@ void AxonStages::inhibition_from(const double* receptors, double* inhibition, st
   if (ends.empty()) ends.push_back(n);
   std::size_t first = 0;
   for (const std::size_t end : ends) {
-    double sum = 0.0;
-    for (std::size_t i = first; i < end; ++i) sum += receptors[i];
-    const double mean = sum / static_cast<double>(end - first);
-    for (std::size_t i = first; i < end; ++i) inhibition[i] = mean;
+    core::population_inhibition(receptors, first, end, inhibition);
     first = end;
   }
 }

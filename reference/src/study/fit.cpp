@@ -13,6 +13,7 @@
 #include "axonguide/assay.hpp"
 #include "axonguide/csv.hpp"
 #include "axonguide/core/pmath.hpp"
+#include "axonguide/core/rosenbrock.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/signalling_setup.hpp"
 #include "axonguide/sweep.hpp"
@@ -315,28 +316,12 @@ Interval profile_interval(const std::vector<Evaluation>& evs, std::size_t k, dou
   return r;
 }
 
-// Solves a x = b (n x n, row-major) by Gaussian elimination with partial pivoting; false
-// when singular.
+// Solves a x = b (n x n, row-major; a copied) by the core's LU with partial pivoting;
+// false when singular.
 bool solve(std::vector<double> a, std::vector<double>& b, std::size_t n) {
-  for (std::size_t c = 0; c < n; ++c) {
-    std::size_t piv = c;
-    for (std::size_t r = c + 1; r < n; ++r)
-      if (std::fabs(a[r * n + c]) > std::fabs(a[piv * n + c])) piv = r;
-    if (!(std::fabs(a[piv * n + c]) > 0)) return false;
-    if (piv != c) {
-      for (std::size_t k = 0; k < n; ++k) std::swap(a[c * n + k], a[piv * n + k]);
-      std::swap(b[c], b[piv]);
-    }
-    for (std::size_t r = c + 1; r < n; ++r) {
-      const double f = a[r * n + c] / a[c * n + c];
-      for (std::size_t k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
-      b[r] -= f * b[c];
-    }
-  }
-  for (std::size_t c = n; c-- > 0;) {
-    for (std::size_t k = c + 1; k < n; ++k) b[c] -= a[c * n + k] * b[k];
-    b[c] /= a[c * n + c];
-  }
+  std::vector<int> piv(n);
+  if (!core::lu_factor(a.data(), static_cast<int>(n), piv.data())) return false;
+  core::lu_solve(a.data(), static_cast<int>(n), piv.data(), b.data());
   return true;
 }
 
@@ -399,6 +384,13 @@ void predict(const json& base, const std::vector<std::pair<double, double>>& pts
   for (int m = 0; m < kMeasures; ++m) mean[m] = ev.mean[0][m], se[m] = ev.se[0][m];
 }
 
+double correction_factor(const Options& o, double steepness) {
+  double f = 1.0;  // the last correction given for this steepness
+  for (const auto& [s, factor] : o.corrections)
+    if (std::fabs(steepness - s) <= 1e-9 * std::max(1.0, std::fabs(s))) f = factor;
+  return f;
+}
+
 Result fit(const json& base, const std::string& origin, const Data& data, const Options& o) {
   const Scene scene = parse_scene(base.dump(), origin).scene;
   const bool steers = scene.guidance.model == GuidanceModel::kSnr;
@@ -418,12 +410,7 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
   }
   // The modelled points: concentrations corrected per steepness.
   std::vector<std::pair<double, double>> pts;
-  for (const auto& d : data.points) {
-    double f = 1.0;
-    for (const auto& [s, factor] : o.corrections)
-      if (std::fabs(d.steepness - s) <= 1e-9 * std::max(1.0, std::fabs(s))) f = factor;
-    pts.emplace_back(d.concentration * f, d.steepness);
-  }
+  for (const auto& d : data.points) pts.emplace_back(d.concentration * correction_factor(o, d.steepness), d.steepness);
   for (std::size_t i = 0; i < data.points.size(); ++i)
     for (int m = 0; m < kMeasures; ++m)
       if (data.measured[m]) r.residuals.push_back({i, m});

@@ -43,9 +43,8 @@ AXG_HDI bool lu_factor(double* a, int n, int* piv) {
         a[k * n + j] = a[p * n + j];
         a[p * n + j] = t;
       }
-    const double inv = 1.0 / a[k * n + k];
     for (int i = k + 1; i < n; ++i) {
-      const double l = a[i * n + k] * inv;
+      const double l = a[i * n + k] / a[k * n + k];
       a[i * n + k] = l;
       if (l != 0.0)
         for (int j = k + 1; j < n; ++j) a[i * n + j] = a[i * n + j] - l * a[k * n + j];

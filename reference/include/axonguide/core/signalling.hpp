@@ -20,6 +20,7 @@
 // parser converts Table 1's per-minute, per-nM values). Integrated by ROS2
 // (rosenbrock.hpp) at fixed work; positivity of every species and F <= F_t are checked.
 #include <cmath>
+#include <cstdint>
 
 #include "hd.hpp"
 #include "pmath.hpp"
@@ -227,6 +228,16 @@ AXG_HDI double soma_receptor_step(const SignallingParams& q, double i, double c,
   const double rate = q.kpI * c + q.kmI;
   const double inf = rate > 0.0 ? q.It * q.kpI * c / rate : 0.0;
   return inf + (i - inf) * pm::exp(-rate * dt);
+}
+
+// The explant's inhibitory signal: the mean of its cell bodies' receptors [first, end)
+// (summed in id order), written to each of them. Both engines call this.
+AXG_HDI void population_inhibition(const double* receptors, std::uint64_t first, std::uint64_t end,
+                                   double* inhibition) {
+  double sum = 0.0;
+  for (std::uint64_t i = first; i < end; ++i) sum += receptors[i];
+  const double mean = sum / static_cast<double>(end - first);
+  for (std::uint64_t i = first; i < end; ++i) inhibition[i] = mean;
 }
 
 struct SignallingStep {

@@ -128,6 +128,11 @@ const std::vector<Option>& options() {
          s.cues.imposed.steepness = 5.0;
          s.cues.imposed.reference_length = 1.0;
        }},
+      {"signalling growth on the particle field, SNR steering", [](Scene& s) {
+         s.units = {"um", "min", "nM"};
+         s.dt = 5.0;
+         s.axons.growth_model = GrowthModel::kSignalling;
+       }},
       {"signalling growth, soma inhibition, radial headings, direct", [](Scene& s) {
          s.units = {"um", "min", "nM"};
          s.dt = 5.0;

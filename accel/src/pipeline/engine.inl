@@ -313,6 +313,7 @@ class AccelEngine final : public Engine {
     a.d_soma = raw(soma_by_id_);
     a.cue = static_cast<int>(scene_.axons.signalling.cue);
     a.substeps = static_cast<int>(scene_.axons.signalling.substeps);
+    a.halvings = static_cast<int>(scene_.axons.signalling.halvings);
     a.dt = scene_.dt;
     a.d_fail_id = raw(fail_id_);
     a.d_fail_code = raw(fail_code_);

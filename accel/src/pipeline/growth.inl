@@ -56,6 +56,7 @@ struct SignalArrays {
   const Vec3* d_soma;          // by neuron id
   int cue;
   int substeps;
+  int halvings;
   double dt;
   std::uint32_t* d_fail_id;    // the lowest failing neuron id (integer atomic minimum)
   std::uint16_t* d_fail_code;  // per slot: status << 8 | (species + 1) of a failed step
@@ -86,7 +87,8 @@ struct Steer {
     if (signal.d_signal) {
       const core::SignallingStep g =
           core::signalling_step(signal.params, signal.d_signal + static_cast<std::size_t>(k) * core::kSignalSpecies,
-                                samples[signal.cue].c, signal.d_inhibition[d_ids[k]], signal.dt, signal.substeps);
+                                samples[signal.cue].c, signal.d_inhibition[d_ids[k]], signal.dt, signal.substeps,
+                                signal.halvings);
       d_step_length[k] = g.grown;
       if (g.status != core::StiffStatus::kOk) {
         signal.d_fail_code[k] = static_cast<std::uint16_t>((static_cast<int>(g.status) << 8) | (g.species + 1));

@@ -92,7 +92,7 @@ class AxonStages {
   bool modulated_;
   bool signalling_;
   core::SignallingParams signal_params_{};
-  int signal_cue_ = 0, signal_substeps_ = 1;
+  int signal_cue_ = 0, signal_substeps_ = 1, signal_halvings_ = core::kSignalHalvings;
   bool population_inhibition_ = true;
   double dt_ = 1.0;
   std::vector<Population> populations_;

@@ -125,6 +125,7 @@ struct Scene {
       std::uint32_t cue = 0;       // the cue whose concentration drives the receptors
       bool population = true;      // inhibition: the population's mean (true) or the soma's own
       std::uint32_t substeps = 1;  // ROS2 steps per growth step
+      std::uint32_t halvings = 10; // a failed sub-step is halved up to this often (core::kSignalHalvings)
       // Values given in the scene, in Table 1's units (per minute, per nM per minute, um
       // per minute, counts), by kSignalTable's index; nullopt: Table 1's (or derived).
       std::array<std::optional<double>, 33> given{};

@@ -29,6 +29,7 @@ AxonStages::AxonStages(const Scene& scene)
     signal_params_ = signalling_params(scene);
     signal_cue_ = static_cast<int>(scene.axons.signalling.cue);
     signal_substeps_ = static_cast<int>(scene.axons.signalling.substeps);
+    signal_halvings_ = static_cast<int>(scene.axons.signalling.halvings);
     population_inhibition_ = scene.axons.signalling.population;
     dt_ = scene.dt;
     populations_ = scene.neurons.populations;
@@ -59,7 +60,8 @@ SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std
           if (signalling_) {
             const core::SignallingStep g =
                 core::signalling_step(signal_params_, a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies,
-                                      samples[signal_cue_].c, a.inhibition[a.id[k]], dt_, signal_substeps_);
+                                      samples[signal_cue_].c, a.inhibition[a.id[k]], dt_, signal_substeps_,
+                                      signal_halvings_);
             a.step_length[k] = g.grown;
             if (g.status != core::StiffStatus::kOk && a.id[k] < failed.neuron)
               failed = {a.id[k], g.species, g.status};
@@ -107,9 +109,10 @@ void throw_signalling_failure(const Scene& scene, const SignallingFailure& f, st
                                                                  : "a species left its range (below 0, A above A_t or F above F_t)";
   throw RunError(fmt::format(
       "signalling: the stiff step of axon {} failed at step {} ({}{}{}), with axons.signalling.substeps = {} ROS2 steps "
-      "of {} {} per growth step; give more sub-steps",
+      "of {} {} per growth step, each halved up to {} times; give more sub-steps",
       f.neuron, step, what, f.species >= 0 ? ": species " : "", f.species >= 0 ? names[f.species] : "",
-      scene.axons.signalling.substeps, scene.dt / scene.axons.signalling.substeps, scene.units.time));
+      scene.axons.signalling.substeps, scene.dt / scene.axons.signalling.substeps, scene.units.time,
+      scene.axons.signalling.halvings));
 }
 
 void AxonStages::start_signals(const CueField& field, const std::vector<core::Vec3>& soma,

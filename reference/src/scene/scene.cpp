@@ -316,6 +316,7 @@ void read_scene(const json& root, Scene& s) {
       rr.integer("cue", q.cue, 0, static_cast<std::uint64_t>(core::kMaxCues - 1));
       rr.choice("inhibition", q.population, {{"population", true}, {"soma", false}});
       rr.integer("substeps", q.substeps, 1, 100000);
+      rr.integer("halvings", q.halvings, 0, 20);
       for (std::size_t k = 0; k < kSignalParameters; ++k) {
         const SignalParameter& p = kSignalTable[k];
         if (const json* v = rr.take(p.name)) {
@@ -806,6 +807,7 @@ json scene_to_json(const Scene& s) {
     const auto& q = s.axons.signalling;
     j["axons"]["growth_model"] = name_of(s.axons.growth_model);
     json sg = {{"cue", q.cue}, {"inhibition", q.population ? "population" : "soma"}, {"substeps", q.substeps}};
+    if (q.halvings != static_cast<std::uint32_t>(core::kSignalHalvings)) sg["halvings"] = q.halvings;
     for (std::size_t k = 0; k < kSignalParameters; ++k) {
       const SignalParameter& p = kSignalTable[k];
       if (q.given[k]) sg[p.name] = signal_value_json(*q.given[k], p);

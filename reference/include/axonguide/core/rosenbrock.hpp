@@ -93,6 +93,7 @@ struct DenseLinear {
   AXG_HDI int size() const { return sys->size(); }
   AXG_HDI double floor(int i) const { return sys->floor(i); }
   AXG_HDI double ceiling(int i) const { return sys->ceiling(i); }
+  AXG_HDI double slack(int i) const { return sys->slack(i); }
   AXG_HDI void rhs(const double* y, double* f) const { sys->rhs(y, f); }
   AXG_HDI bool factor(const double* y, double h, Factor& f) const {
     const int n = sys->size();
@@ -107,10 +108,13 @@ struct DenseLinear {
 // One ROS2 step of size tau: `sys` provides int size(), void rhs(const double* y, double*
 // f), the linear solves with W = I - gamma tau J(y) (a type Factor; bool factor(const
 // double* y, double h, Factor&), false where W is singular; void solve(const Factor&,
-// double* b), b <- W^-1 b in place), and double floor(int i) and ceiling(int i), the range
-// species i must stay in (its positivity, and a total it cannot exceed). y is updated in
-// place; on failure it is left as it was and *species names the first offending species
-// (or -1).
+// double* b), b <- W^-1 b in place), and double floor(int i), ceiling(int i) and slack(int
+// i): the range species i must stay in (its positivity, and a total it cannot exceed), and
+// how far outside it a result is the method's truncation error rather than a failure. A
+// result within the slack of a bound is set to the bound (a species that starts at exactly
+// 0 takes an O(tau^3) negative excursion in ROS2's second stage); one beyond it fails. y is
+// updated in place; on failure it is left as it was and *species names the first offending
+// species (or -1).
 template <class System>
 AXG_HDI StiffStatus ros2_step(const System& sys, double* y, double tau, int* species) {
   const int n = sys.size();
@@ -132,10 +136,13 @@ AXG_HDI StiffStatus ros2_step(const System& sys, double* y, double tau, int* spe
       *species = i;
       return StiffStatus::kNotFinite;
     }
-    if (next[i] < sys.floor(i) || next[i] > sys.ceiling(i)) {
+    const double lo = sys.floor(i), hi = sys.ceiling(i), slack = sys.slack(i);
+    if (next[i] < lo - slack || next[i] > hi + slack) {
       *species = i;
       return StiffStatus::kOutOfRange;
     }
+    if (next[i] < lo) next[i] = lo;
+    if (next[i] > hi) next[i] = hi;
   }
   for (int i = 0; i < n; ++i) y[i] = next[i];
   return StiffStatus::kOk;

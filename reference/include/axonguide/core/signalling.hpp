@@ -45,6 +45,8 @@ struct SignallingParams {
   double r0, kext;           // basal growth (length per time), growth per Gs (length per time)
 };
 
+inline constexpr double kSignalSlack = 1e-6;
+
 // One axon's network with its inputs held over a step: C at the tip and the inhibitory
 // signal I. The interface of ros2_step.
 struct SignallingSystem {
@@ -55,6 +57,9 @@ struct SignallingSystem {
   AXG_HDI int size() const { return kSignalSpecies; }
   AXG_HDI double floor(int) const { return 0.0; }
   AXG_HDI double ceiling(int s) const { return s == kSF ? p->Ft : (s == kSA ? p->At : HUGE_VAL); }
+  // 10^-6 molecules (R: 10^-6 of the length unit): a species' excursion past its bound by
+  // less is set to the bound (rosenbrock.hpp; docs/methods.md §2.10).
+  AXG_HDI double slack(int) const { return kSignalSlack; }
 
   AXG_HDI void rhs(const double* y, double* f) const {
     const SignallingParams& q = *p;
@@ -246,17 +251,42 @@ struct SignallingStep {
   double grown;  // length grown over the step (R's increase)
 };
 
+// The halvings a failed sub-step may take by default: down to 1/1024 of it.
+inline constexpr int kSignalHalvings = 10;
+
 // One growth step of one axon: `substeps` ROS2 steps of dt / substeps with C = c at the tip
-// and inhibitory signal i. On failure the state is left at the last good sub-step.
+// and inhibitory signal i. A sub-step that fails (a species leaves its range, a result not
+// finite, a singular W) is redone as two steps of half its length, each of which may again
+// be halved, down to 2^-halvings of the sub-step (docs/methods.md §2.10). The pieces are
+// taken in time order and the decision to halve depends only on the state, so the work and
+// the bytes are the same on every backend and thread count; a scene whose steps all succeed
+// is unchanged. Only when a piece of the smallest length fails does the step fail; the
+// state is then left at the last good piece.
 AXG_HDI SignallingStep signalling_step(const SignallingParams& q, double* y, double c, double i, double dt,
-                                       int substeps) {
+                                       int substeps, int halvings = kSignalHalvings) {
   const SignallingSystem sys{&q, c, i};
   const double tau = dt / static_cast<double>(substeps);
   const double r_before = y[kSR];
+  // Positions within a sub-step in units of tau / 2^halvings; a piece at `level` spans
+  // 2^(halvings - level) units and has length tau / 2^level (exact: halving is exact).
+  const std::uint32_t units = std::uint32_t{1} << halvings;
   for (int s = 0; s < substeps; ++s) {
-    int species = -1;
-    const StiffStatus st = ros2_step(sys, y, tau, &species);
-    if (st != StiffStatus::kOk) return {st, species, y[kSR] - r_before};
+    std::uint32_t pos = 0;
+    int level = 0;
+    double h = tau;
+    while (pos < units) {
+      int species = -1;
+      const StiffStatus st = ros2_step(sys, y, h, &species);
+      if (st == StiffStatus::kOk) {
+        pos += std::uint32_t{1} << (halvings - level);
+        // Back to the longer piece once both of its halves are done.
+        while (level > 0 && pos % (std::uint32_t{1} << (halvings - level + 1)) == 0) --level, h = h * 2.0;
+      } else if (level < halvings) {
+        ++level, h = h * 0.5;
+      } else {
+        return {st, species, y[kSR] - r_before};
+      }
+    }
   }
   return {StiffStatus::kOk, -1, y[kSR] - r_before};
 }

@@ -7,6 +7,7 @@
 #include <ctime>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "axonguide/canonical_nan.hpp"
 #include "axonguide/error.hpp"
@@ -48,19 +49,31 @@ class CsvWriter {
 };
 
 // Formats rows [0, n) in parallel chunks and writes them in order: the bytes are those of
-// a sequential loop. row(i, buffer) appends row i.
+// a sequential loop. row(i, buffer) appends row i. Two batches of chunks alternate: while
+// the calling thread writes (and hashes) one batch, the other threads format the next.
 template <class Sink, class RowFn>
 void write_rows(Sink& f, std::size_t n, RowFn row) {
-  constexpr std::size_t kRows = 8192, kBatch = 32;
-  std::vector<fmt::memory_buffer> chunks(kBatch);
-  for (std::size_t first = 0; first < n; first += kRows * kBatch) {
-    const std::size_t count = std::min(kBatch, (n - first + kRows - 1) / kRows);
-    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t c) {
-      chunks[c].clear();
+  constexpr std::size_t kRows = 4096, kBatch = 32;
+  std::vector<fmt::memory_buffer> chunks[2] = {std::vector<fmt::memory_buffer>(kBatch),
+                                               std::vector<fmt::memory_buffer>(kBatch)};
+  auto batch_count = [&](std::size_t first) { return std::min(kBatch, (n - first + kRows - 1) / kRows); };
+  auto format = [&](std::size_t first, std::vector<fmt::memory_buffer>& out) {
+    tbb::parallel_for(std::size_t{0}, batch_count(first), [&](std::size_t c) {
+      out[c].clear();
       const std::size_t begin = first + c * kRows, end = std::min(n, begin + kRows);
-      for (std::size_t i = begin; i < end; ++i) row(i, chunks[c]);
+      for (std::size_t i = begin; i < end; ++i) row(i, out[c]);
     });
-    for (std::size_t c = 0; c < count; ++c) f.write(std::string_view(chunks[c].data(), chunks[c].size()));
+  };
+  if (n == 0) return;
+  format(0, chunks[0]);
+  int cur = 0;
+  for (std::size_t first = 0; first < n; first += kRows * kBatch, cur ^= 1) {
+    const std::size_t next = first + kRows * kBatch;
+    tbb::task_group formatting;
+    if (next < n) formatting.run([&, next, cur] { format(next, chunks[cur ^ 1]); });
+    for (std::size_t c = 0; c < batch_count(first); ++c)
+      f.write(std::string_view(chunks[cur][c].data(), chunks[cur][c].size()));
+    formatting.wait();
   }
 }
 

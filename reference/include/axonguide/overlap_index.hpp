@@ -26,14 +26,20 @@ class OverlapIndex {
     base_ = base;
   }
 
-  // Whether any indexed slot j has |pos[j] - p|^2 < min_dist2.
+  // Whether any indexed slot j has |pos[j] - p|^2 < min_dist2. The 27 buckets' heads are
+  // read first, without a branch between them, so that their cache misses overlap (the
+  // query is bound by memory latency once the index outgrows the cache); the answer does
+  // not depend on the order the chains are then walked in.
   bool overlaps(const std::vector<core::Vec3>& pos, core::Vec3 p, double min_dist2) const {
     const std::int64_t cx = coord(p.x), cy = coord(p.y), cz = coord(p.z);
+    std::uint32_t heads[27];
+    int k = 0;
     for (std::int64_t dz = -1; dz <= 1; ++dz)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dx = -1; dx <= 1; ++dx)
-          for (std::uint32_t j = head_[bucket(cx + dx, cy + dy, cz + dz)]; j != kEmpty; j = next_[j - base_])
-            if (core::norm2(pos[j] - p) < min_dist2) return true;
+        for (std::int64_t dx = -1; dx <= 1; ++dx) heads[k++] = head_[bucket(cx + dx, cy + dy, cz + dz)];
+    for (k = 0; k < 27; ++k)
+      for (std::uint32_t j = heads[k]; j != kEmpty; j = next_[j - base_])
+        if (core::norm2(pos[j] - p) < min_dist2) return true;
     return false;
   }
 

@@ -52,7 +52,7 @@ TEST(signalling_command, AFailedStiffStepIsExitThreeNamingWhereOnBothEngines) {
     else EXPECT_EQ(text, first);  // the same failure, the same words
   }
   // Eight sub-steps integrate it; so does the default halving of the failed sub-step, on
-  // both engines alike.
+  // both engines and any thread count alike.
   s["axons"]["signalling"]["substeps"] = 8;
   std::ofstream(scene) << s.dump();
   const auto [rc, text] = run_command(fmt::format("run {} --out {}/ok -q", scene.string(), d.path().string()));
@@ -65,10 +65,15 @@ TEST(signalling_command, AFailedStiffStepIsExitThreeNamingWhereOnBothEngines) {
         fmt::format("run {} --out {}/halved-{} -q --backend {}", scene.string(), d.path().string(), backend, backend));
     EXPECT_EQ(hrc, 0) << backend << ": " << htext;
   }
+  // And on one thread as on two.
+  const auto [trc, ttext] = run_command(
+      fmt::format("run {} --out {}/halved-1-thread -q --threads 1", scene.string(), d.path().string()));
+  EXPECT_EQ(trc, 0) << ttext;
   for (const char* file : {"neurons.csv", "connections.csv", "stats.csv"}) {
     const std::string ref = test::read_file(d.path() / "halved-reference" / file);
     EXPECT_FALSE(ref.empty()) << file;
     EXPECT_EQ(ref, test::read_file(d.path() / "halved-emulated" / file)) << file;
+    EXPECT_EQ(ref, test::read_file(d.path() / "halved-1-thread" / file)) << file;
   }
 }
 

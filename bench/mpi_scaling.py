@@ -1,16 +1,27 @@
 #!/usr/bin/python3
 """Strong and weak scaling of one network decomposed over MPI ranks (docs/scaling.md §3).
 
-Runs `mpirun -np K axonguide run` on direct-guidance scenes at the report's density
-(100 neurons in a ball of radius 2.5 LU) with the default wandering, 100 steps, and reads
-rank 0's manifest: the phase times and the decomposition's facts (placement rounds, axons
-migrated, messages and bytes per step, peak memory). Every run is checked against the
-one-process run of the same scene (neurons.csv, connections.csv, bfs.csv and stats.csv
-compared byte for byte); a mismatch stops the benchmark.
+Runs `mpirun -np K axonguide run` and reads rank 0's manifest: the phase times and the
+decomposition's facts (placement rounds, axons and particles migrated, the halo's
+particles and ghost values, messages and bytes per step, peak memory). Every run is
+checked against the one-process run of the same scene (neurons.csv, connections.csv,
+bfs.csv and stats.csv compared byte for byte); a mismatch stops the benchmark.
+
+--field direct (the default): direct-guidance scenes at the report's density (100
+  neurons in a ball of radius 2.5 LU), the default wandering, 100 steps.
+--field particles: the particle field, SNR steering on the estimate, at the report's
+  density; sources of 2000 particles a step at the centres of the K blocks (weak) or the
+  first source alone at the centre (strong), 60 steps.
+--field grid: the implicit grid field, SNR steering, the same neurons; grid spacing h
+  (strong), or h / K^(1/3) so that the nodes grow with K (weak), 60 steps.
 
   strong: N fixed, K = 1, 2, 4 (one thread a rank; the one-process reference engine on
           1 and 2 threads beside it);
   weak:   N = N1 x K, K = 1, 2, 4 (each beside the one-process engine on 1 thread).
+
+Throughput per rank: particle-steps (the particles alive after each step, summed over
+the steps) or voxel updates (nodes x cues x sub-steps x steps) per second of field time,
+divided by the rank count.
 
 On a machine with fewer cores than ranks the ranks share cores (--oversubscribe): the
 times then show the cost of the decomposition, not its speed-up; the bytes and messages
@@ -34,10 +45,33 @@ import time
 COMPARED = ["neurons.csv", "connections.csv", "bfs.csv", "stats.csv"]
 
 
+FIELD = "direct"
+WEAK_K = 1  # the weak-scaling rank count the scene is sized for (sources, grid nodes)
+
+
+def block_centres(k, half):
+    bx, by, bz = {1: (1, 1, 1), 2: (2, 1, 1), 4: (2, 2, 1), 8: (2, 2, 2)}[k]
+    c = lambda i, p: -half + (i + 0.5) * 2 * half / p
+    return [[c(i, bx), c(j, by), c(l, bz)] for l in range(bz) for j in range(by) for i in range(bx)]
+
+
 def scene(n):
     radius = round(2.5 * (n / 100.0) ** (1.0 / 3.0) * 1e4) / 1e4
-    return {"neurons": {"count": n, "region": {"radius": radius}}, "guidance": {"model": "direct"}, "steps": 100,
-            "analysis": {"bfs_sources": [0], "components": True}}
+    s = {"neurons": {"count": n, "region": {"radius": radius}}, "guidance": {"model": "direct"}, "steps": 100,
+         "analysis": {"bfs_sources": [0], "components": True}}
+    if FIELD == "direct":
+        return s
+    s["guidance"] = {"model": "snr"}
+    s["steps"] = 60
+    if FIELD == "particles":
+        centres = block_centres(WEAK_K, radius) if WEAK_K > 1 else [[0.0, 0.0, 0.0]]
+        s["cues"] = {"field": "particles", "sources": [{"kind": "attractant", "position": p, "emission": 2000}
+                                                       for p in centres]}
+    else:
+        h = round(0.2 * radius / 2.5 / WEAK_K ** (1.0 / 3.0) * 1e4) / 1e4
+        s["cues"] = {"field": "grid", "sources": [{"kind": "attractant", "position": [0.3, 0.2, -0.1]}],
+                     "grid": {"spacing": h}}
+    return s
 
 
 def run(cmd, out):
@@ -80,7 +114,17 @@ def summarize(n, ranks, threads, walls, mans):
     med = lambda xs: statistics.median(xs)
     t = lambda key: med([m["timings_seconds"].get(key, 0.0) for m in mans])
     steps = t("grow") + t("compact") + t("migrate") + t("steer")
-    row = {"neurons": n, "ranks": ranks, "threads": threads, "wall_s": med(walls), "wall_min_s": min(walls),
+    field = sum(med([m["timings_seconds"].get(k, 0.0) for m in mans])
+                for k in mans[0]["timings_seconds"] if k.startswith("particles.") or k.startswith("grid."))
+    steps += field
+    summary = mans[0]["summary"]
+    work = 0.0
+    if FIELD == "particles":
+        work = mans[0].get("particle_steps", 0.0)
+    elif FIELD == "grid":
+        work = mans[0].get("voxel_updates", 0.0)
+    row = {"neurons": n, "field_s": field, "field_work": work,
+           "per_rank_throughput": work / field / max(ranks, 1) if field > 0 else 0.0, "ranks": ranks, "threads": threads, "wall_s": med(walls), "wall_min_s": min(walls),
            "wall_max_s": max(walls), "placement_s": t("placement"), "setup_s": t("setup"), "steps_s": steps,
            "readback_s": t("readback"), "graph_s": t("graph"), "output_s": t("output"),
            "steps_run": mans[0]["summary"]["steps_run"], "peak_rank0_bytes": mans[0]["peak_memory_bytes"]}
@@ -94,7 +138,13 @@ def summarize(n, ranks, threads, walls, mans):
                     "collective_bytes_per_step": d["per_step"]["collective_bytes"],
                     "halo_somas": d["halo_somas"], "somas_per_rank_max": d["somas_per_rank"]["max"],
                     "gathered_bytes": d["gathered"]["bytes"],
-                    "peak_other_bytes": d["peak_memory_bytes"]["largest_other"]})
+                    "peak_other_bytes": d["peak_memory_bytes"]["largest_other"],
+                    "migrated_particles_per_step": d["per_step"].get("migrated_particles", 0.0),
+                    "halo_particles_per_step": d["per_step"].get("halo_particles", 0.0),
+                    "owned_particles_per_step": d["per_step"].get("owned_particles", 0.0),
+                    "halo_message_bytes_per_step": d["per_step"].get("halo_message_bytes", 0.0),
+                    "ghost_values_per_step": d["per_step"].get("ghost_values", 0.0),
+                    "pipeline_stages_per_step": d["per_step"].get("pipeline_stages", 0.0)})
     return row
 
 

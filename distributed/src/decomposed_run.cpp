@@ -44,14 +44,16 @@ json DecomposedRun::facts() {
   const RankReport& r = report_;
   std::vector<std::uint64_t> sum{r.owned_somas,          r.halo_somas,          r.migrated,
                                  r.placement.collective_bytes, r.steps.messages,  r.steps.message_bytes,
-                                 r.steps.collective_bytes,     r.gathers.messages, r.gathers.message_bytes};
+                                 r.steps.collective_bytes,     r.gathers.messages, r.gathers.message_bytes,
+                                 r.field.migrated,             r.field.halo_particles, r.field.owned_particles,
+                                 r.field.halo.messages,        r.field.halo.message_bytes, r.field.ghost_values};
   auto micro = [](double s) { return static_cast<std::uint64_t>(s * 1e6); };
   // Peak memory so far: rank 0's (which holds the whole result) and the largest other's.
   const std::uint64_t peak = peak_rss_bytes();
   std::vector<std::uint64_t> most{r.owned_somas, ~r.owned_somas, r.steps.message_bytes, r.steps.collectives,
                                   comm_.root() ? peak : 0, comm_.root() ? 0 : peak,
                                   micro(r.placing.window_seconds), micro(r.placing.gather_seconds),
-                                  micro(r.placing.replicated_seconds)};
+                                  micro(r.placing.replicated_seconds), r.field.pipeline_stages};
   comm_.allreduce(sum, Reduce::kSum);
   comm_.allreduce(most, Reduce::kMax);
   const double steps = static_cast<double>(std::max<std::uint64_t>(r.steps_run, 1));
@@ -76,7 +78,14 @@ json DecomposedRun::facts() {
             {"message_bytes", per_step(sum[5])},
             {"collectives_per_rank", per_step(most[3])},
             {"collective_bytes", per_step(sum[6])},
-            {"max_rank_message_bytes", per_step(most[2])}}},
+            {"max_rank_message_bytes", per_step(most[2])},
+            {"migrated_particles", per_step(sum[9])},
+            {"halo_particles", per_step(sum[10])},
+            {"owned_particles", per_step(sum[11])},
+            {"halo_messages", per_step(sum[12])},
+            {"halo_message_bytes", per_step(sum[13])},
+            {"ghost_values", per_step(sum[14])},
+            {"pipeline_stages", per_step(most[9])}}},
           {"gathered", {{"messages", sum[7]}, {"bytes", sum[8]}}},
           {"peak_memory_bytes", {{"rank0", most[4]}, {"largest_other", most[5]}}}};
 }

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/core/types.hpp"
+#include "axonguide/cue_setup.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/growth_setup.hpp"
 
@@ -23,6 +24,17 @@ std::array<int, 3> Decomposition::block_of(core::Vec3 p) const {
 
 std::array<int, 3> Decomposition::block(int rank) const {
   return {rank % blocks[0], (rank / blocks[0]) % blocks[1], rank / (blocks[0] * blocks[1])};
+}
+
+bool Decomposition::near_boundary(int rank, core::Vec3 p, double width) const {
+  const std::array<int, 3> b = block(rank);
+  const double c[3] = {p.x, p.y, p.z};
+  for (int a = 0; a < 3; ++a) {
+    const double lo = -half + b[a] * edge[a], hi = lo + edge[a];
+    if (b[a] > 0 && c[a] - lo <= width) return true;
+    if (b[a] < blocks[a] - 1 && hi - c[a] <= width) return true;
+  }
+  return false;
 }
 
 bool Decomposition::near(int rank, core::Vec3 p, double width) const {
@@ -64,12 +76,6 @@ Decomposition decompose(const Scene& scene, int ranks) {
     throw RunError("a run decomposed over ranks does not take axons.growth_model = \"signalling\" (its explant "
                    "inhibition is a mean over a population that may span ranks): run it without mpirun, or sweep "
                    "its members over ranks with `axonguide sweep`");
-  if (scene.uses_cues() && (scene.cues.field == FieldKind::kParticles || scene.cues.field == FieldKind::kGrid))
-    throw RunError(fmt::format(
-        "a run decomposed over ranks takes direct guidance or the analytic or imposed field; the {} field's "
-        "decomposition (particle migration, grid halos) is designed in docs/scaling.md but not built: run it "
-        "without mpirun",
-        name_of(scene.cues.field)));
   const auto& nn = scene.neurons;
   if (nn.count >= core::kNoNeuron)
     throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)", nn.count,
@@ -86,10 +92,33 @@ Decomposition decompose(const Scene& scene, int ranks) {
   d.max_step = max_step_length(scene);
   const double reach = d.max_step + nn.soma_radius + scene.axons.contact_distance;
   d.halo = std::max(reach, 2.0 * nn.soma_radius) * 1.001;
+  std::string set_by = fmt::format("one step's contact search: step {:.4g} + soma radius + contact distance", d.max_step);
+  if (scene.uses_cues() && scene.cues.field == FieldKind::kParticles && particle_grid_used(scene)) {
+    const bool gathers = sense_params(scene).sensing != core::ParticleSensing::kEstimate;
+    const double gather = std::max(gathers ? scene.guidance.sensing_radius : 0.0,
+                                   scene.cues.particles.collisions ? 2.0 * scene.cues.particles.radius : 0.0);
+    d.particle_halo = gather * 1.001;
+    if (d.particle_halo > d.halo) {
+      d.halo = d.particle_halo;
+      set_by = gathers ? "the particles within the sensing radius" : "the particles' collision diameter";
+    }
+  }
+  if (scene.uses_cues() && scene.cues.field == FieldKind::kGrid) {
+    // Slabs over the grid's cube (the field's work; somas beyond it belong to the outer
+    // slabs), each at least two planes thick.
+    const GridGeometry3 g = grid_field_geometry(scene);
+    d.slabs = true;
+    d.half = 0.5 * (g.n - 1) * g.h + 0.5 * g.h;
+    if (2.0 * g.h * 1.001 > d.halo) {
+      d.halo = 2.0 * g.h * 1.001;
+      set_by = "two grid planes of ghost nodes";
+    }
+  }
 
   // The most cubic factorisation: the least P_x + P_y + P_z, then the most cuts along x, y.
-  int best = -1;
-  for (int px = 1; px <= ranks; ++px) {
+  int best = d.slabs ? 0 : -1;
+  if (d.slabs) d.blocks = {1, 1, ranks};
+  for (int px = 1; px <= ranks && !d.slabs; ++px) {
     if (ranks % px) continue;
     for (int py = 1; py <= ranks / px; ++py) {
       if ((ranks / px) % py) continue;
@@ -105,13 +134,14 @@ Decomposition decompose(const Scene& scene, int ranks) {
   const double shortest = *std::min_element(d.edge.begin(), d.edge.end());
   if (shortest < d.halo) {
     const int per_axis = static_cast<int>(std::floor(2.0 * d.half / d.halo));
+    const long long most = d.slabs ? per_axis : static_cast<long long>(per_axis) * per_axis * per_axis;
     throw InputError(fmt::format(
         "{} ranks: the domain (a cube of edge {:.4g} LU) cut {} x {} x {} gives blocks {:.4g} LU wide, narrower than "
-        "the halo of {:.4g} LU (one step's contact search: step {:.4g} + soma radius + contact distance); use a "
-        "rank count whose most cubic factorisation has at most {} blocks along an axis (at most {} ranks), or run "
-        "without mpirun",
-        ranks, 2.0 * d.half, d.blocks[0], d.blocks[1], d.blocks[2], shortest, d.halo, d.max_step, per_axis,
-        static_cast<long long>(per_axis) * per_axis * per_axis));
+        "the halo of {:.4g} LU ({}); use {} (at most {} ranks), or run without mpirun",
+        ranks, 2.0 * d.half, d.blocks[0], d.blocks[1], d.blocks[2], shortest, d.halo, set_by,
+        d.slabs ? fmt::format("at most {} slabs along z (a grid scene is cut in slabs)", per_axis)
+                : fmt::format("a rank count whose most cubic factorisation has at most {} blocks along an axis", per_axis),
+        most));
   }
   return d;
 }

@@ -9,7 +9,7 @@
 #include "axonguide/axon_stages.hpp"
 #include "axonguide/cell_grid.hpp"
 #include "axonguide/error.hpp"
-#include "axonguide/fields.hpp"
+#include "axonguide/distributed/fields.hpp"
 #include "axonguide/growth_setup.hpp"
 #include "axonguide/placement.hpp"
 
@@ -72,7 +72,7 @@ class DecomposedEngine final : public Engine {
         n_(static_cast<std::size_t>(scene.neurons.count)),
         stages_(scene),
         modulated_(stages_.modulated()),
-        field_(make_reference_field(scene, stages_.cues())),
+        field_(make_decomposed_field(scene, stages_.cues(), d, comm, report.field)),
         report_(report),
         neighbours_(d.neighbours(rank_)),
         peer_of_(static_cast<std::size_t>(d.ranks), -1) {
@@ -121,6 +121,7 @@ class DecomposedEngine final : public Engine {
     });
     out.connected = stats_.connected;
     out.exited = stats_.exited;
+    if (field_) field_->save(out);  // collective: the particles or the grid, on rank 0
   }
 
   // Every rank holds the whole checkpoint; each keeps the axons whose tips lie in its block.
@@ -139,6 +140,7 @@ class DecomposedEngine final : public Engine {
     }
     stats_.connected = in.connected;
     stats_.exited = in.exited;
+    if (field_) field_->load(in);
   }
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
@@ -156,14 +158,14 @@ class DecomposedEngine final : public Engine {
     {
       ScopedPhase p(times, step, "migrate");
       migrate();
-      std::vector<std::uint64_t> counts{c.connected, c.exited, grow_.size()};
+      std::vector<std::uint64_t> counts{c.connected, c.exited, grow_.size(), field_ ? field_->particles() : 0};
       comm_.allreduce(counts, Reduce::kSum);
       stats_.connected += counts[0];
       stats_.exited += counts[1];
       stats_.growing = counts[2];
+      stats_.particles = counts[3];
     }
     stats_.step = step;
-    stats_.particles = 0;
     ++report_.steps_run;
     const Traffic spent = comm_.traffic() - before;
     report_.steps.messages += spent.messages;
@@ -189,6 +191,13 @@ class DecomposedEngine final : public Engine {
           }
         },
         [&](const TipRecord& t) { out[t.id] = t.tip; });
+  }
+
+  // Collective: every particle, in id order, on rank 0 (output frames).
+  void particles(std::vector<Vec3>& pos, std::vector<std::uint16_t>& cue) override {
+    pos.clear();
+    cue.clear();
+    if (field_) field_->snapshot(pos, cue);
   }
 
   // The engine's state goes into the gather as it is packed (the run's memory peak).
@@ -337,7 +346,7 @@ class DecomposedEngine final : public Engine {
   std::size_t n_;
   AxonStages stages_;
   bool modulated_;
-  std::unique_ptr<CueField> field_;  // null for direct guidance; analytic and imposed only
+  std::unique_ptr<CueField> field_;  // null for direct guidance; decomposed particles and grid
   RankReport& report_;
   std::vector<int> neighbours_;
   std::vector<int> peer_of_;  // rank -> index in neighbours_, -1 when not adjacent

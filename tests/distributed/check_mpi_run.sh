@@ -3,13 +3,16 @@
 #  - mpirun -np 1, 2 and 4 write every file of the one-process run byte for byte (all but
 #    timings.csv and manifest.json, whose file hashes and summary must match too), for
 #    direct guidance (with paths, SWC and SONATA), the analytic field with growth-rate
-#    modulation, and the imposed field in physical units; the manifest records the blocks;
+#    modulation, the imposed field in physical units, the particle field (Brownian with
+#    the estimate; ballistic with collisions; the gathers of source_vector_sum) and the grid
+#    field (implicit absorbing, explicit reflecting); the manifest records the blocks;
 #  - a signal to one rank stops every rank at the same step with a checkpoint (exit 143),
 #    and a kill -9 of one rank ends the job; either run resumes on another rank count to the
-#    one-process bytes;
+#    one-process bytes; so do particle and grid runs whose rank was killed;
 #  - what cannot proceed exits 2 or 3 with one message, from rank 0, and no rank hangs: too
-#    many ranks for the scene's halo, a particle field, --backend emulated (the accelerator),
-#    placement too dense (the folder is left as it was), a folder that holds another run.
+#    many ranks for the scene's halo (a step's reach, the particles' sensing radius, the
+#    grid's slabs), --backend emulated (the accelerator), placement too dense (the folder is
+#    left as it was), a folder that holds another run, a checkpoint of another scene.
 # Usage: check_mpi_run.sh AXONGUIDE MPIEXEC SOURCE_DIR
 set -euo pipefail
 exe=$1
@@ -51,7 +54,13 @@ analytic.setdefault("neurons", {})["count"] = 600
 json.dump(analytic, open("analytic.json", "w"))
 PY
 cp "$src/data/golden/imposed-explant-units/scene.json" imposed.json
-for scene in direct analytic imposed; do
+for g in particles-brownian-snr particles-ballistic-collisions-vector-sum particles-source-vector-sum \
+         grid-implicit-absorbing-snr grid-explicit-reflecting-vector-sum; do
+  /usr/bin/python3 -c "import json,sys; s=json.load(open(sys.argv[1])); s['neurons']['count']=200; s['steps']=30; \
+json.dump(s, open(sys.argv[2], 'w'))" "$src/data/golden/$g/scene.json" $g.json
+done
+for scene in direct analytic imposed particles-brownian-snr particles-ballistic-collisions-vector-sum \
+             particles-source-vector-sum grid-implicit-absorbing-snr grid-explicit-reflecting-vector-sum; do
   run1 $scene.json --out one-$scene
   for k in 1 2 4; do
     runk $k $scene.json --out np$k-$scene || fail "mpirun -np $k run $scene exited $?"
@@ -89,6 +98,34 @@ set -e
 same one-long killed
 echo "kill -9 of one of 3 ranks: the job ended (exit $rc); resumed in one process to the same bytes"
 
+# A particle run and a grid run, one rank killed: resumed on another rank count and in one
+# process to the one-process bytes (the checkpoints hold the particles and the grid).
+/usr/bin/python3 - "$src" <<'PY'
+import json, sys
+src = sys.argv[1]
+for name, out in (("particles-ballistic-collisions-vector-sum", "plong.json"), ("grid-implicit-absorbing-snr", "glong.json")):
+    s = json.load(open(src + "/data/golden/" + name + "/scene.json"))
+    s["neurons"]["count"] = 400
+    s["steps"] = 40
+    s["output"] = dict(s.get("output", {}), checkpoint_every=4)
+    json.dump(s, open(out, "w"))
+PY
+for scene in plong glong; do
+  run1 $scene.json --out one-$scene
+  set +e
+  AXG_FAULT_KILL_AT="step 19" AXG_FAULT_RANK=1 runk 2 $scene.json --out killed-$scene > killed-$scene.log 2>&1
+  rc=$?
+  set -e
+  [ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "$scene: a rank killed: mpirun exited $rc"
+  cp -r killed-$scene killed1-$scene
+  cp -r killed-$scene swap-$scene
+  runk 4 --resume killed-$scene || fail "$scene: the resume on 4 ranks exited $?"
+  same one-$scene killed-$scene
+  "$exe" run --resume killed1-$scene -q || fail "$scene: the resume in one process exited $?"
+  same one-$scene killed1-$scene
+done
+echo "kill -9 of one of 2 ranks in a particle and a grid run: resumed on 4 ranks and in one process to the same bytes"
+
 # What cannot proceed: exit 2 or 3, one message from rank 0, no hang, no folder.
 refuse() {  # refuse CODE PATTERN NP ARGS...: exit CODE, one error line matching PATTERN
   local code=$1 pattern=$2 k=$3; shift 3
@@ -103,7 +140,17 @@ refuse() {  # refuse CODE PATTERN NP ARGS...: exit CODE, one error line matching
 echo '{"neurons": {"count": 20, "region": {"radius": 1.2}}, "guidance": {"model": "direct"}}' > small.json
 refuse 2 'narrower than the halo' 5 small.json --out small
 [ ! -e small ] || fail "a refused run made its folder"
-refuse 3 'particles field' 2 --out particles
+# The particles' sensing radius sets the halo of source_vector_sum's gathers; a grid scene
+# is cut in slabs along z, each at least two planes thick.
+/usr/bin/python3 -c "import json; s=json.load(open('particles-source-vector-sum.json')); \
+s['guidance']['sensing_radius']=2.0; json.dump(s, open('wide.json', 'w'))"
+refuse 2 'the particles within the sensing radius.*at most 27 ranks' 64 wide.json --out wide
+refuse 2 'slabs along z' 64 grid-implicit-absorbing-snr.json --out slabs
+# A checkpoint of another scene in the folder: exit 2, and the folder is left as it was.
+cp swap-plong/checkpoint.axg swap-glong/checkpoint.axg
+before=$(cd swap-glong && find . -type f -exec sha256sum {} + | sort)
+refuse 2 'written for another scene' 2 --resume swap-glong
+[ "$(cd swap-glong && find . -type f -exec sha256sum {} + | sort)" = "$before" ] || fail "the refused resume changed its folder"
 refuse 3 'one block per GPU is designed' 2 direct.json --backend emulated --out emulated
 echo '{"neurons": {"count": 2300, "region": {"radius": 5}, "soma_radius": 0.3, "max_attempts": 40},
        "guidance": {"model": "direct"}}' > dense.json

@@ -5,8 +5,9 @@
 //    and id block, the failing neuron included; each rank keeps exactly its block's somas
 //    and those within its halo;
 //  - a decomposed run writes the one-process files, byte for byte, for any rank count,
-//    with direct guidance and the analytic and imposed fields, growth-rate modulation,
-//    both contact rules and paths;
+//    with direct guidance, the analytic and imposed fields, and the particle and grid
+//    fields (migration, halos, ghost planes, the pipelined z sweep), growth-rate
+//    modulation, both contact rules and paths;
 //  - a checkpoint taken by K ranks resumes on K' ranks (or one process) to the same bytes;
 //  - decompositions that cannot proceed are refused with the message of the issue.
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@
 #include <string>
 
 #include "axonguide/checkpoint.hpp"
+#include "axonguide/cue_setup.hpp"
 #include "axonguide/core/random.hpp"
 #include "axonguide/distributed/decomposed_run.hpp"
 #include "axonguide/distributed/local_group.hpp"
@@ -183,6 +185,86 @@ RC_GTEST_PROP(decomposed, RunWritesTheOneProcessBytes, ()) {
   RC_ASSERT(facts["somas_per_rank"]["max"].get<std::uint64_t>() <= s.neurons.count);
 }
 
+// The particle and grid fields of the golden scenes over ranks, with random seeds, sizes,
+// steps, rank counts and variants (motion, collisions, gathers; explicit or implicit,
+// absorbing or reflecting): every output file, particle frames in the paths included, is
+// the one-process file.
+rc::Gen<Scene> gen_cue_field_scene() {
+  return rc::gen::exec([] {
+    const char* names[] = {"particles-brownian-snr", "particles-ballistic-collisions-vector-sum",
+                           "particles-count-modulation", "particles-source-vector-sum",
+                           "grid-explicit-reflecting-vector-sum", "grid-implicit-absorbing-snr"};
+    Scene s = golden_scene(*rc::gen::elementOf(std::vector<std::string>(std::begin(names), std::end(names))));
+    s.seed = *rc::gen::inRange<std::uint64_t>(0, 1u << 30);
+    s.steps = *rc::gen::inRange<std::uint32_t>(1, 25);
+    s.neurons.count = *rc::gen::inRange<std::uint64_t>(1, 300);
+    s.output.paths = *rc::gen::arbitrary<bool>();
+    s.cues.warmup_steps = *rc::gen::inRange<std::uint32_t>(0, 4);
+    if (s.cues.field == FieldKind::kParticles) {
+      if (*rc::gen::arbitrary<bool>()) s.cues.particles.collisions = !s.cues.particles.collisions;
+      if (*rc::gen::arbitrary<bool>())
+        s.cues.particles.motion = s.cues.particles.motion == Motion::kBrownian ? Motion::kBallistic : Motion::kBrownian;
+      s.cues.particles.radius = *rc::gen::inRange(1, 30) / 100.0;
+    } else {
+      if (*rc::gen::arbitrary<bool>())
+        s.cues.grid.scheme = s.cues.grid.scheme == GridScheme::kExplicit ? GridScheme::kImplicit : GridScheme::kExplicit;
+      if (*rc::gen::arbitrary<bool>())
+        s.cues.grid.boundary =
+            s.cues.grid.boundary == GridBoundary::kAbsorbing ? GridBoundary::kReflecting : GridBoundary::kAbsorbing;
+      s.cues.grid.spacing = *rc::gen::element(0.2, 0.3, 0.45);
+      if (s.cues.grid.scheme == GridScheme::kImplicit) s.cues.grid.substeps = *rc::gen::inRange<std::uint32_t>(1, 3);
+    }
+    return s;
+  });
+}
+
+RC_GTEST_PROP(decomposed, CueFieldRunsWriteTheOneProcessBytes, ()) {
+  const Scene s = *gen_cue_field_scene();
+  const int ranks = *rc::gen::element(1, 2, 3, 4, 5, 6, 7, 8);
+  RC_TAG(ranks, name_of(s.cues.field));
+  try {
+    distributed::decompose(s, ranks);
+  } catch (const InputError& e) {
+    RC_ASSERT(std::string(e.what()).find("narrower than the halo") != std::string::npos);
+    RC_SUCCEED("too many ranks for this scene: refused");
+  }
+  const auto expected = one_process(s);
+  test::TempDir dir;
+  const nlohmann::json facts = run_decomposed(s, ranks, dir.path());
+  RC_ASSERT(test::output_hashes(dir.path()) == expected);
+  RC_ASSERT(facts["ranks"] == ranks);
+}
+
+// Fixed cases of the same, at 1, 2, 4 and 8 ranks, with the exchanges seen to happen:
+// particles migrating and in halos, grid ghost planes and the pipelined z sweep.
+TEST(decomposed, ParticleAndGridScenesOnOneTwoFourAndEightRanks) {
+  for (const char* name : {"particles-source-vector-sum", "particles-ballistic-collisions-vector-sum",
+                           "particles-brownian-snr", "grid-implicit-absorbing-snr",
+                           "grid-explicit-reflecting-vector-sum"}) {
+    Scene s = golden_scene(name);
+    s.steps = 20;
+    s.neurons.count = 200;
+    const auto expected = one_process(s);
+    for (int ranks : {1, 2, 4, 8}) {
+      test::TempDir dir;
+      const nlohmann::json facts = run_decomposed(s, ranks, dir.path());
+      EXPECT_EQ(test::output_hashes(dir.path()), expected) << name << ", " << ranks << " ranks";
+      if (ranks == 1) continue;
+      const nlohmann::json& f = facts["per_step"];
+      if (s.cues.field == FieldKind::kParticles) {
+        EXPECT_GT(f["migrated_particles"].get<double>(), 0.0) << name << facts.dump();
+        if (particle_grid_used(s)) EXPECT_GT(f["halo_particles"].get<double>(), 0.0) << name << facts.dump();
+      } else {
+        EXPECT_GT(f["ghost_values"].get<double>(), 0.0) << name << facts.dump();
+        if (s.cues.grid.scheme == GridScheme::kImplicit)
+          EXPECT_EQ(f["pipeline_stages"].get<double>(),  // forward and back, per cue
+                    2.0 * (4 * ranks + ranks - 1) * static_cast<double>(make_cues(s).size()))
+              << name << facts.dump();
+      }
+    }
+  }
+}
+
 // A bigger run, with a fixed rank count per case: every file, and migration really
 // happening (the facts count the axons sent to neighbours).
 TEST(decomposed, DefaultSizedDirectRunOnOneTwoFourAndEightRanks) {
@@ -260,6 +342,40 @@ TEST(decomposed, CheckpointFromSomeRanksResumesOnOthers) {
   }
 }
 
+// The particle (ballistic, with collisions: velocities and the estimate in the checkpoint)
+// and grid state taken by K ranks resumes on K' ranks and in one process to the same bytes.
+TEST(decomposed, CueFieldCheckpointsResumeOnOtherRankCounts) {
+  for (const char* name : {"particles-ballistic-collisions-vector-sum", "particles-source-vector-sum",
+                           "grid-implicit-absorbing-snr", "grid-explicit-reflecting-vector-sum"}) {
+    Scene s = golden_scene(name);
+    s.steps = 24;
+    s.neurons.count = 150;
+    s.output.checkpoint_every = 8;
+    const auto expected = one_process(s);
+    for (const auto& [from, to] : {std::pair{3, 2}, std::pair{2, 4}}) {
+      std::optional<RunCheckpoint> c;
+      test::TempDir first;
+      run_decomposed(s, from, first.path(), nullptr, &c, 16);
+      ASSERT_TRUE(c.has_value()) << name;
+      if (s.cues.field == FieldKind::kParticles) {
+        EXPECT_FALSE(c->engine.particle_id.empty()) << name;
+        EXPECT_TRUE(std::is_sorted(c->engine.particle_id.begin(), c->engine.particle_id.end())) << name;
+      } else {
+        EXPECT_FALSE(c->engine.grid.empty()) << name;
+      }
+      test::TempDir dir;
+      run_decomposed(s, to, dir.path(), &*c);
+      EXPECT_EQ(test::output_hashes(dir.path()), expected) << name << ": " << from << " ranks, resumed on " << to;
+      RunOptions options;
+      RunCheckpoint copy = *c;
+      options.resume = &copy;
+      test::TempDir single;
+      write_outputs(with_threads(2, [&] { return run_scene(s, options); }), single.path(), "test", 2, {});
+      EXPECT_EQ(test::output_hashes(single.path()), expected) << name << ": resumed in one process";
+    }
+  }
+}
+
 TEST(decomposed, PlacementTooDenseFailsOnEveryRankWithTheOneProcessMessage) {
   Scene s;
   s.guidance.model = GuidanceModel::kDirect;
@@ -315,13 +431,35 @@ TEST(decomposed, RefusesWhatItCannotDecompose) {
   }
   EXPECT_EQ(distributed::decompose(s, 216).blocks, (std::array<int, 3>{6, 6, 6}));
   EXPECT_THROW(distributed::decompose(s, 7), InputError);  // 7 x 1 x 1: 0.64 LU blocks
-  Scene particles;  // the default: cue guidance through the particle field
+  // The particle field's gathers set the halo when they reach further than a step's
+  // contact search: the message names them, and the largest rank count that works.
+  Scene gathers = golden_scene("particles-source-vector-sum");
+  gathers.guidance.sensing_radius = 2.0;
   try {
-    distributed::decompose(particles, 2);
-    FAIL() << "the particle field is not decomposed";
-  } catch (const RunError& e) {
-    EXPECT_NE(std::string(e.what()).find("particles field's decomposition"), std::string::npos) << e.what();
+    distributed::decompose(gathers, 64);
+    FAIL() << "64 ranks with a sensing radius of 2";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("narrower than the halo of 2.002 LU (the particles within the sensing radius)"), std::string::npos)
+        << m;
+    EXPECT_NE(m.find("(at most 27 ranks)"), std::string::npos) << m;
   }
+  EXPECT_EQ(distributed::decompose(gathers, 27).blocks, (std::array<int, 3>{3, 3, 3}));
+  // A grid scene is cut in slabs along z over the grid's cube.
+  Scene grid = golden_scene("grid-implicit-absorbing-snr");
+  const distributed::Decomposition slabs = distributed::decompose(grid, 4);
+  EXPECT_TRUE(slabs.slabs);
+  EXPECT_EQ(slabs.blocks, (std::array<int, 3>{1, 1, 4}));
+  try {
+    distributed::decompose(grid, 200);
+    FAIL() << "200 slabs";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at most"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("slabs along z"), std::string::npos) << e.what();
+  }
+  Scene signalling;
+  signalling.axons.growth_model = GrowthModel::kSignalling;
+  EXPECT_THROW(distributed::decompose(signalling, 2), RunError);
 }
 
 TEST(decomposed, BlocksAreTheMostCubicFactorisation) {

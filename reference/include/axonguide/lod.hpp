@@ -9,4 +9,9 @@ namespace axg {
 
 void lod_sweeps(double* c, int n, double lambda, bool reflecting);
 
+// The x and the y sweep of `planes` consecutive z-planes of n^2 values stored at c (a slab
+// of the grid: the decomposed grid field runs these locally and pipelines the z sweep).
+void lod_sweep_x(double* c, int n, int planes, double lambda, bool reflecting);
+void lod_sweep_y(double* c, int n, int planes, double lambda, bool reflecting);
+
 }  // namespace axg

@@ -107,7 +107,7 @@ RC_GTEST_PROP(mesh, SampleIsExactForLinearAndItsGradientForQuadraticFields, ()) 
   const int n = 7;
   const double h = coordinate(10, 200, 100);
   const Vec3 origin{-3 * h, -3 * h, -3 * h};
-  const GridFieldView lin{origin, h, n, nullptr};
+  const GridFieldView lin{origin, h, n, nullptr, 0};
   const std::vector<double> cl = mesh_of(n, h, origin, linear, a), cq = mesh_of(n, h, origin, quadratic, a);
   // A point in the cells [1, 5] of every axis (their nodes and neighbours are interior).
   const Vec3 x{h * coordinate(-1999, 1999, 1000), h * coordinate(-1999, 1999, 1000), h * coordinate(-1999, 1999, 1000)};

@@ -24,6 +24,12 @@ struct Decomposition {
   // placement's overlap test (2 r_s), with a margin for rounding.
   double halo = 0.0;
   double max_step = 0.0;  // LU: the longest step an axon can take
+  // Particles a rank keeps beyond its block (the particle field's gathers: the sensing
+  // radius, the collision diameter), LU; 0 when no gather reads particles. Within `halo`.
+  double particle_halo = 0.0;
+  // A grid scene is cut in slabs along z (blocks 1 x 1 x K) over the grid's cube, so that
+  // the x and y sweeps of the implicit solve are local; its ghost planes are two nodes wide.
+  bool slabs = false;
 
   std::array<int, 3> block_of(core::Vec3 p) const;
   int rank_of(const std::array<int, 3>& b) const { return (b[2] * blocks[1] + b[1]) * blocks[0] + b[0]; }
@@ -32,6 +38,9 @@ struct Decomposition {
   // Whether p lies within `width` of rank's block (the outer blocks reach to infinity, as
   // their points are clamped into them).
   bool near(int rank, core::Vec3 p, double width) const;
+  // Whether p, a point of rank's block, lies within `width` of a face that rank's block
+  // shares with another block (so that it may be within `width` of that block).
+  bool near_boundary(int rank, core::Vec3 p, double width) const;
   // The ranks of the blocks adjacent to rank's (faces, edges and corners), ascending.
   std::vector<int> neighbours(int rank) const;
   // "2 x 2 x 1 blocks of 5.4 x 5.4 x 10.8 LU, halo 0.65 LU"
@@ -41,8 +50,9 @@ struct Decomposition {
 // The decomposition of the scene over `ranks` ranks. Throws InputError (exit 2) when the
 // ranks cannot all be given a block at least a halo wide (a halo wider than a block would
 // need a second ring of neighbours; a tip would cross more than one block in a step), and
-// RunError (exit 3) for a scene whose cue field has no decomposed engine (particles and the
-// grid: designed in docs/scaling.md §2.4, not built).
+// RunError (exit 3) for a scene the decomposed engine does not take (signalling growth).
+// The halo covers one step's contact search, the placement's overlap test, the particle
+// field's gathers and the grid's ghost planes.
 Decomposition decompose(const Scene& scene, int ranks);
 
 }  // namespace axg::distributed

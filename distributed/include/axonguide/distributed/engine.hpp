@@ -11,6 +11,7 @@
 
 #include "axonguide/distributed/comm.hpp"
 #include "axonguide/distributed/decomposition.hpp"
+#include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/placement.hpp"
 #include "axonguide/engine.hpp"
 
@@ -23,6 +24,7 @@ struct RankReport {
   Traffic placement, steps, gathers;
   std::uint64_t steps_run = 0;
   std::uint64_t migrated = 0;  // axons sent to a neighbouring block
+  FieldReport field;           // the particle or grid field's migration, halo and pipeline
 };
 
 // Collective. `somas`: this rank's block and halo. `report` outlives the engine.

@@ -46,7 +46,7 @@ struct EstimateSet {
 };
 
 AXG_HDI GridFieldView estimate_half(const EstimateSet& s, int cue, int half) {
-  return {s.origin[cue], s.h, s.n, s.c + (2 * static_cast<std::size_t>(cue) + static_cast<std::size_t>(half)) * s.nodes};
+  return {s.origin[cue], s.h, s.n, s.c + (2 * static_cast<std::size_t>(cue) + static_cast<std::size_t>(half)) * s.nodes, 0};
 }
 
 // The half a particle belongs to, for its whole life: the parity of its id.

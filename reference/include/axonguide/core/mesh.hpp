@@ -22,7 +22,8 @@ struct GridFieldView {
   Vec3 origin;      // LU, node (0,0,0)
   double h;         // LU, node spacing
   int n;            // nodes per axis, >= 2
-  const double* c;  // n^3 values (concentration units)
+  const double* c;  // values (concentration units) of planes k0.. (all n^3 from k0 = 0)
+  int k0;           // the first plane (z index) stored at c: a slab of a decomposed grid
 };
 
 AXG_HDI std::size_t node_index(int i, int j, int k, int n) {
@@ -54,8 +55,8 @@ struct MeshSample {
 AXG_HDI double nodal_derivative(const GridFieldView& g, int i, int j, int k, int di, int dj, int dk) {
   const int at = di ? i : (dj ? j : k);
   const int down = at > 0 ? 1 : 0, up = at < g.n - 1 ? 1 : 0;
-  const double hi = g.c[node_index(i + up * di, j + up * dj, k + up * dk, g.n)];
-  const double lo = g.c[node_index(i - down * di, j - down * dj, k - down * dk, g.n)];
+  const double hi = g.c[node_index(i + up * di, j + up * dj, k + up * dk - g.k0, g.n)];
+  const double lo = g.c[node_index(i - down * di, j - down * dj, k - down * dk - g.k0, g.n)];
   return (hi - lo) / (static_cast<double>(up + down) * g.h);
 }
 
@@ -73,7 +74,7 @@ AXG_HDI MeshSample mesh_sample(Vec3 x, const GridFieldView& g) {
     for (int b = 0; b < 2; ++b)
       for (int a = 0; a < 2; ++a) {
         const double w = (wx[a] * wy[b]) * wz[c];
-        value += w * g.c[node_index(i + a, j + b, k + c, g.n)];
+        value += w * g.c[node_index(i + a, j + b, k + c - g.k0, g.n)];
         grad += w * Vec3{nodal_derivative(g, i + a, j + b, k + c, 1, 0, 0),
                          nodal_derivative(g, i + a, j + b, k + c, 0, 1, 0),
                          nodal_derivative(g, i + a, j + b, k + c, 0, 0, 1)};

@@ -34,9 +34,10 @@ struct GridFieldSet {
   double h;     // LU
   int n;        // nodes per axis
   const double* c[kMaxCues];
+  int k0 = 0;   // the first plane stored (a slab of a decomposed grid)
 };
 
-AXG_HDI GridFieldView cue_view(const GridFieldSet& s, int k) { return {s.origin, s.h, s.n, s.c[k]}; }
+AXG_HDI GridFieldView cue_view(const GridFieldSet& s, int k) { return {s.origin, s.h, s.n, s.c[k], s.k0}; }
 
 // Every cue's value and signed unit gradient (its vector_sum pull) from the grids.
 AXG_HDI void sample_grid_field(Vec3 x, const GridFieldSet& set, const CueParams* cues, int cue_count,
@@ -78,6 +79,7 @@ struct StencilParams {
   double lambda;    // D dt / h^2 for one (sub-)step
   double decay_dt;  // k dt for one (sub-)step
   bool reflecting;
+  int k0;           // the first plane stored at c (0, or a decomposed grid's slab)
 };
 
 // Explicit FTCS update of node (i, j, k): reads `c`, the caller writes its own slot.
@@ -93,9 +95,9 @@ AXG_HDI double ftcs_node(const double* c, int i, int j, int k, const StencilPara
     if (b > n - 1) b = n - 2;
     if (d < 0) d = 1;
     if (d > n - 1) d = n - 2;
-    return c[node_index(a, b, d, n)];
+    return c[node_index(a, b, d - s.k0, n)];
   };
-  const double here = c[node_index(i, j, k, n)];
+  const double here = c[node_index(i, j, k - s.k0, n)];
   const double sum = ((((at(i - 1, j, k) + at(i + 1, j, k)) + at(i, j - 1, k)) + at(i, j + 1, k)) + at(i, j, k - 1)) +
                      at(i, j, k + 1);
   return here + s.lambda * (sum - 6.0 * here) - s.decay_dt * here;

@@ -1,0 +1,338 @@
+// The grid field over ranks (fields.hpp; docs/scaling.md §2.4): a rank owns the z-planes of
+// its slab, [z0, z1), and stores [z0 - 2, z1 + 2) clamped to the grid. Every owned node is
+// computed by the one-process expression from the same values:
+//  - sources: the core deposit's eight nodes, each added by its plane's owner;
+//  - explicit FTCS: core::ftcs_node on the slab (one ghost plane each side, exchanged
+//    before every sub-step);
+//  - implicit LOD: the x and y sweeps of the owned planes are local (whole lines); the z
+//    sweep is the serial Thomas algorithm along lines that cross the slabs, pipelined:
+//    the lines are cut in batches of y, and at stage t rank r eliminates batch t - r
+//    forward from the (c', d') that rank r - 1 passed up for that batch, then in the back
+//    substitution batch t - (K - 1 - r) from the solution rank r + 1 passed down. Each
+//    row's lod_forward / lod_backward call is the one-process call with the same inputs.
+//  - sensing: core::sample_grid_field on the slab, whose two ghost planes each side (the
+//    interpolation's cell and its centred differences) are exchanged after the step.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "axonguide/core/stencil.hpp"
+#include "axonguide/cue_setup.hpp"
+#include "axonguide/distributed/fields.hpp"
+#include "axonguide/error.hpp"
+#include "axonguide/lod.hpp"
+
+namespace axg::distributed {
+
+namespace {
+
+class DecomposedGridField final : public CueField {
+ public:
+  DecomposedGridField(const Scene& scene, const std::vector<core::CueParams>& cues, const Decomposition& d,
+                      Comm& comm, FieldReport& report)
+      : cues_(cues),
+        geometry_(grid_field_geometry(scene)),
+        scheme_(scene.cues.grid.scheme),
+        reflecting_(scene.cues.grid.boundary == GridBoundary::kReflecting),
+        dt_(scene.dt),
+        amount_(scene.cues.particles.amount),
+        note_(grid_field_note(scene, cues)),
+        comm_(comm),
+        rank_(comm.rank()),
+        ranks_(comm.size()),
+        report_(report) {
+    if (!d.slabs) throw RunError("decomposed grid field: the decomposition is not in slabs along z");
+    const int n = geometry_.n;
+    // Plane k belongs to the slab its z coordinate falls in (monotone in k: slabs are
+    // ranges); rank r owns [first_[r], first_[r + 1]).
+    first_.assign(static_cast<std::size_t>(ranks_) + 1, n);
+    for (int r = 0; r < ranks_; ++r) {
+      int lo = n;
+      for (int k = 0; k < n; ++k)
+        if (d.owner({0.0, 0.0, geometry_.origin.z + geometry_.h * k}) >= r) {
+          lo = k;
+          break;
+        }
+      first_[static_cast<std::size_t>(r)] = lo;
+    }
+    first_[static_cast<std::size_t>(ranks_)] = n;
+    z0_ = first_[static_cast<std::size_t>(rank_)];
+    z1_ = first_[static_cast<std::size_t>(rank_) + 1];
+    for (int r = 0; r < ranks_; ++r)
+      if (first_[static_cast<std::size_t>(r) + 1] - first_[static_cast<std::size_t>(r)] < 2 && ranks_ > 1)
+        throw InputError("decomposed grid field: a slab holds fewer than two grid planes (the halo rule keeps "
+                         "slabs two planes thick; this is a bug)");
+    g0_ = std::max(0, z0_ - 2);
+    g1_ = std::min(n, z1_ + 2);
+    plane_ = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    slab_ = static_cast<std::size_t>(g1_ - g0_) * plane_;
+    buffer_[0].assign(cues_.size() * slab_, 0.0);
+    cur_.assign(cues_.size(), 0);
+    if (scheme_ == GridScheme::kExplicit) buffer_[1].assign(cues_.size() * slab_, 0.0);
+    for (const auto& cue : cues_) substeps_.push_back(grid_substeps(scene, cue));
+    if (rank_ > 0) peers_.push_back(rank_ - 1);
+    if (rank_ + 1 < ranks_) peers_.push_back(rank_ + 1);
+    if (peers_ != d.neighbours(rank_)) throw RunError("decomposed grid field: slab neighbours are not r - 1, r + 1");
+    // Batches of y for the pipelined z sweep: four a rank, so that the pipeline idles for
+    // (K - 1) / (4K + K - 1) of its stages.
+    batches_ = ranks_ == 1 ? 1 : std::min(n, 4 * ranks_);
+  }
+
+  void advance(std::uint32_t step, PhaseTimes& times) override {
+    {
+      ScopedPhase p(times, step, scheme_ == GridScheme::kExplicit ? "grid.explicit" : "grid.implicit");
+      for (std::size_t k = 0; k < cues_.size(); ++k) {
+        if (scheme_ == GridScheme::kExplicit) explicit_step(k, step);
+        else implicit_step(k, step);
+      }
+    }
+    ScopedPhase p(times, step, "grid.ghosts");
+    for (std::size_t k = 0; k < cues_.size(); ++k) exchange_ghosts(values(k, cur_[k]), 2);
+  }
+
+  void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
+    core::GridFieldSet set{geometry_.origin, geometry_.h, geometry_.n, {}, g0_};
+    for (std::size_t k = 0; k < cues_.size(); ++k) set.c[k] = buffer_[cur_[k]].data() + k * slab_;
+    core::sample_grid_field(x, set, cues_.data(), static_cast<int>(cues_.size()), samples, pull);
+  }
+
+  std::size_t bytes() const override {
+    return (buffer_[0].size() + buffer_[1].size() + cp_.size() + dp_.size()) * sizeof(double);
+  }
+
+  std::string note() const override { return note_; }
+
+  // Collective: rank 0 receives every cue's current values, node order.
+  void save(EngineState& out) const override {
+    Bytes mine;
+    for (std::size_t k = 0; k < cues_.size(); ++k)
+      append(mine, buffer_[cur_[k]].data() + k * slab_ + local(z0_), static_cast<std::size_t>(z1_ - z0_) * plane_);
+    std::vector<Bytes> all = comm_.gather(std::move(mine));
+    if (!comm_.root()) return;
+    const std::size_t nodes = geometry_.nodes();
+    out.grid.assign(cues_.size() * nodes, 0.0);
+    for (int r = 0; r < ranks_; ++r) {
+      const std::vector<double> v = records<double>(all[static_cast<std::size_t>(r)]);
+      const int a = first_[static_cast<std::size_t>(r)], b = first_[static_cast<std::size_t>(r) + 1];
+      const std::size_t count = static_cast<std::size_t>(b - a) * plane_;
+      for (std::size_t k = 0; k < cues_.size(); ++k)
+        std::copy_n(v.data() + k * count, count, out.grid.data() + k * nodes + static_cast<std::size_t>(a) * plane_);
+    }
+  }
+
+  // Every rank reads the whole checkpoint and keeps its slab (ghost planes included).
+  void load(const EngineState& in) override {
+    const std::size_t nodes = geometry_.nodes();
+    if (in.grid.size() != cues_.size() * nodes)
+      throw std::runtime_error("checkpoint: the grid has " + std::to_string(in.grid.size()) + " values, the scene needs " +
+                               std::to_string(cues_.size() * nodes));
+    for (std::size_t k = 0; k < cues_.size(); ++k)
+      std::copy_n(in.grid.data() + k * nodes + static_cast<std::size_t>(g0_) * plane_, slab_,
+                  buffer_[0].data() + k * slab_);
+    cur_.assign(cues_.size(), 0);
+  }
+
+ private:
+  std::size_t local(int plane) const { return static_cast<std::size_t>(plane - g0_) * plane_; }
+  double* values(std::size_t k, int buffer) { return buffer_[buffer].data() + k * slab_; }
+
+  // `width` planes each side from the neighbours' owned planes.
+  void exchange_ghosts(double* c, int width) {
+    if (ranks_ == 1) return;
+    const Traffic before = comm_.traffic();
+    std::vector<Bytes> out(peers_.size());
+    std::size_t p = 0;
+    const std::size_t w = static_cast<std::size_t>(width);
+    if (rank_ > 0) append(out[p++], c + local(z0_), w * plane_);
+    if (rank_ + 1 < ranks_) append(out[p++], c + local(z1_ - width), w * plane_);
+    const std::vector<Bytes> in = comm_.exchange(out);
+    p = 0;
+    if (rank_ > 0) receive(in[p++], c + local(z0_ - width), w);
+    if (rank_ + 1 < ranks_) receive(in[p++], c + local(z1_), w);
+    const Traffic spent = comm_.traffic() - before;
+    report_.halo.messages += spent.messages, report_.halo.message_bytes += spent.message_bytes;
+    report_.halo.collectives += spent.collectives, report_.halo.collective_bytes += spent.collective_bytes;
+  }
+
+  void receive(const Bytes& from, double* to, std::size_t planes) {
+    if (from.size() != planes * plane_ * sizeof(double))
+      throw RunError("decomposed grid field: a neighbour sent " + std::to_string(from.size()) + " bytes of ghost planes");
+    std::memcpy(to, from.data(), from.size());
+    report_.ghost_values += planes * plane_;
+  }
+
+  // The one-process deposit's nodes that lie in this rank's planes.
+  void add_source(std::size_t k, std::uint32_t step, double fraction) {
+    const double total = amount_ * core::emitted_at(cues_[k].emission, step) * fraction;
+    if (total == 0.0) return;
+    const core::SourceDeposit d =
+        core::source_deposit(cues_[k].position, total, geometry_.origin, geometry_.h, geometry_.n);
+    double* c = values(k, cur_[k]);
+    for (int m = 0; m < 8; ++m) {
+      const int plane = static_cast<int>(d.index[m] / plane_);
+      if (plane >= z0_ && plane < z1_) c[d.index[m] - static_cast<std::size_t>(g0_) * plane_] += d.value[m];
+    }
+  }
+
+  void explicit_step(std::size_t k, std::uint32_t step) {
+    const std::uint32_t m = substeps_[k];
+    core::StencilParams s = stencil_params(geometry_, cues_[k], dt_ / m, reflecting_);
+    s.k0 = g0_;
+    const int n = geometry_.n;
+    for (std::uint32_t sub = 0; sub < m; ++sub) {
+      add_source(k, step, 1.0 / m);
+      exchange_ghosts(values(k, cur_[k]), 1);
+      const double* in = values(k, cur_[k]);
+      double* out = values(k, 1 - cur_[k]);
+      const int rows = (z1_ - z0_) * n;
+      tbb::parallel_for(tbb::blocked_range<int>(0, rows), [&](const tbb::blocked_range<int>& r) {
+        for (int row = r.begin(); row != r.end(); ++row) {
+          const int zk = z0_ + row / n, yj = row % n;
+          double* o = out + local(zk) + static_cast<std::size_t>(yj) * static_cast<std::size_t>(n);
+          for (int xi = 0; xi < n; ++xi) o[xi] = core::ftcs_node(in, xi, yj, zk, s);
+        }
+      });
+      cur_[k] = 1 - cur_[k];
+    }
+  }
+
+  void implicit_step(std::size_t k, std::uint32_t step) {
+    const std::uint32_t m = substeps_[k];
+    const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_ / m, reflecting_);
+    const double keep = 1.0 / (1.0 + s.decay_dt);
+    double* c = values(k, 0);
+    double* mine = c + local(z0_);
+    const std::size_t owned = static_cast<std::size_t>(z1_ - z0_) * plane_;
+    for (std::uint32_t sub = 0; sub < m; ++sub) {
+      add_source(k, step, 1.0 / m);
+      lod_sweep_x(mine, geometry_.n, z1_ - z0_, s.lambda, reflecting_);
+      lod_sweep_y(mine, geometry_.n, z1_ - z0_, s.lambda, reflecting_);
+      sweep_z(c, s.lambda);
+      tbb::parallel_for(std::size_t{0}, owned, [&](std::size_t i) { mine[i] = mine[i] * keep; });
+    }
+  }
+
+  // The z sweep of lines crossing the slabs: rows [a, b] of this rank's unknown rows, the
+  // lines in batches of y.
+  void sweep_z(double* c, double lambda) {
+    const int n = geometry_.n;
+    const std::size_t nn = static_cast<std::size_t>(n);
+    const core::LodLine l = core::lod_line(n, lambda, reflecting_);
+    if (!reflecting_) {  // the serial sweep's absorbing end planes
+      if (z0_ == 0) std::fill_n(c + local(0), plane_, 0.0);
+      if (z1_ == n) std::fill_n(c + local(n - 1), plane_, 0.0);
+    }
+    if (l.hi < l.lo) return;
+    const int a = std::max(z0_, l.lo), b = std::min(z1_ - 1, l.hi);  // may be empty (a > b)
+    const std::size_t rows = static_cast<std::size_t>(std::max(0, b - a + 1));
+    cp_.resize(rows * plane_);
+    dp_.resize(rows * plane_);
+    auto batch_of = [&](int t) { return std::pair{t * n / batches_, (t + 1) * n / batches_}; };  // y range
+    auto row_at = [&](int m) { return c + local(m); };
+    // Forward: carry_ holds (c', d') of row a - 1 for the batch's lines, from rank - 1.
+    std::vector<double> carry;
+    const bool up = rank_ + 1 < ranks_, down = rank_ > 0;
+    const int stages = batches_ + ranks_ - 1;
+    for (int t = 0; t < stages; ++t) {
+      const int batch = t - rank_;
+      Bytes send_up;
+      if (batch >= 0 && batch < batches_ && rows > 0) {
+        const auto [y0, y1] = batch_of(batch);
+        tbb::parallel_for(y0, y1, [&](int y) {
+          for (int m = a; m <= b; ++m) {
+            const std::size_t r = static_cast<std::size_t>(m - a);
+            const double* rhs = row_at(m) + static_cast<std::size_t>(y) * nn;
+            double* cpm = cp_.data() + r * plane_ + static_cast<std::size_t>(y) * nn;
+            double* dpm = dp_.data() + r * plane_ + static_cast<std::size_t>(y) * nn;
+            const bool first = m == l.lo;
+            if (first) {
+              for (std::size_t x = 0; x < nn; ++x) core::lod_forward(l, m, rhs[x], 0.0, 0.0, &cpm[x], &dpm[x]);
+              continue;
+            }
+            // Row m - 1: this rank's, or the carry rank - 1 passed up (c' then d' of each line).
+            const double* cprev = m == a ? carry.data() + static_cast<std::size_t>(y - y0) * 2 * nn : cpm - plane_;
+            const double* dprev = m == a ? cprev + nn : dpm - plane_;
+            for (std::size_t x = 0; x < nn; ++x) core::lod_forward(l, m, rhs[x], cprev[x], dprev[x], &cpm[x], &dpm[x]);
+          }
+        });
+        if (up && b < l.hi) {
+          const std::size_t r = static_cast<std::size_t>(b - a);
+          for (int y = y0; y < y1; ++y) {
+            append(send_up, cp_.data() + r * plane_ + static_cast<std::size_t>(y) * nn, nn);
+            append(send_up, dp_.data() + r * plane_ + static_cast<std::size_t>(y) * nn, nn);
+          }
+        }
+      }
+      if (ranks_ == 1) continue;
+      std::vector<Bytes> out(peers_.size());
+      if (up) out.back() = std::move(send_up);
+      const std::vector<Bytes> in = comm_.exchange(out);
+      ++report_.pipeline_stages;
+      if (down) carry = records<double>(in.front());
+    }
+    // Backward: next_ holds the solution of row b + 1 for the batch's lines, from rank + 1.
+    std::vector<double> next;
+    for (int t = 0; t < stages; ++t) {
+      const int batch = t - (ranks_ - 1 - rank_);
+      Bytes send_down;
+      if (batch >= 0 && batch < batches_ && rows > 0) {
+        const auto [y0, y1] = batch_of(batch);
+        tbb::parallel_for(y0, y1, [&](int y) {
+          const std::size_t yo = static_cast<std::size_t>(y) * nn;
+          for (int m = b; m >= a; --m) {
+            const std::size_t r = static_cast<std::size_t>(m - a);
+            double* out = row_at(m) + yo;
+            const double* cpm = cp_.data() + r * plane_ + yo;
+            const double* dpm = dp_.data() + r * plane_ + yo;
+            if (m == l.hi) {
+              std::copy_n(dpm, nn, out);
+              continue;
+            }
+            const double* above = m == b ? next.data() + static_cast<std::size_t>(y - y0) * nn : row_at(m + 1) + yo;
+            for (std::size_t x = 0; x < nn; ++x) out[x] = core::lod_backward(cpm[x], dpm[x], above[x]);
+          }
+        });
+        if (down && a > l.lo)
+          for (int y = y0; y < y1; ++y) append(send_down, row_at(a) + static_cast<std::size_t>(y) * nn, nn);
+      }
+      if (ranks_ == 1) continue;
+      std::vector<Bytes> out(peers_.size());
+      if (down) out.front() = std::move(send_down);
+      const std::vector<Bytes> in = comm_.exchange(out);
+      ++report_.pipeline_stages;
+      if (up) next = records<double>(in.back());
+    }
+  }
+
+  std::vector<core::CueParams> cues_;
+  GridGeometry3 geometry_;
+  GridScheme scheme_;
+  bool reflecting_;
+  double dt_, amount_;
+  std::string note_;
+  Comm& comm_;
+  int rank_, ranks_;
+  FieldReport& report_;
+  std::vector<int> first_;  // rank r owns planes [first_[r], first_[r + 1])
+  int z0_ = 0, z1_ = 0;     // this rank's planes
+  int g0_ = 0, g1_ = 0;     // the planes stored (ghosts included)
+  std::size_t plane_ = 0, slab_ = 0;
+  std::vector<int> peers_;  // rank - 1, rank + 1 where they exist
+  int batches_ = 1;
+  std::vector<double> buffer_[2];
+  std::vector<int> cur_;
+  std::vector<std::uint32_t> substeps_;
+  std::vector<double> cp_, dp_;  // the z sweep's (c', d') of this rank's rows
+};
+
+}  // namespace
+
+std::unique_ptr<CueField> make_decomposed_grid_field(const Scene& scene, const std::vector<core::CueParams>& cues,
+                                                     const Decomposition& d, Comm& comm, FieldReport& report) {
+  return std::make_unique<DecomposedGridField>(scene, cues, d, comm, report);
+}
+
+}  // namespace axg::distributed

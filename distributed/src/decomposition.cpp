@@ -137,11 +137,11 @@ Decomposition decompose(const Scene& scene, int ranks) {
     const long long most = d.slabs ? per_axis : static_cast<long long>(per_axis) * per_axis * per_axis;
     throw InputError(fmt::format(
         "{} ranks: the domain (a cube of edge {:.4g} LU) cut {} x {} x {} gives blocks {:.4g} LU wide, narrower than "
-        "the halo of {:.4g} LU ({}); use {} (at most {} ranks), or run without mpirun",
+        "the halo of {:.4g} LU ({}); use {} (at most {} rank{}), or run without mpirun",
         ranks, 2.0 * d.half, d.blocks[0], d.blocks[1], d.blocks[2], shortest, d.halo, set_by,
         d.slabs ? fmt::format("at most {} slabs along z (a grid scene is cut in slabs)", per_axis)
                 : fmt::format("a rank count whose most cubic factorisation has at most {} blocks along an axis", per_axis),
-        most));
+        most, most == 1 ? "" : "s"));
   }
   return d;
 }

@@ -559,6 +559,17 @@ int cmd_run(const RunArgs& args) {
       args.threads > 0 ? args.threads : std::max(1, resolve_threads(0) / std::max(1, launch.local_size));
   distributed::MpiSession session;
   const std::unique_ptr<distributed::Comm> comm = distributed::make_mpi_comm();
+  if (comm->size() != launch.size) {
+    // Another MPI's launcher (its variables say K ranks; this library sees itself alone):
+    // K copies would each run the whole network into the same folder.
+    if (launch.rank == 0)
+      std::fprintf(stderr,
+                   "axonguide: error: the launcher started %d ranks, but this build's MPI (%s) sees %d: the job's "
+                   "launcher is not this MPI's; start it with the mpirun (or srun) of %s, or run without a "
+                   "launcher\n",
+                   launch.size, distributed::mpi_library().c_str(), comm->size(), distributed::mpi_library().c_str());
+    return kExitCannotRun;
+  }
   Ranks ranks{*comm, nullptr};
   try {
     session.exit_code = run_job(args, &ranks, threads);

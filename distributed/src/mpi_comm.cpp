@@ -6,6 +6,7 @@
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -156,9 +157,43 @@ class MpiComm final : public Comm {
 
 std::unique_ptr<Comm> make_mpi_comm() { return std::make_unique<MpiComm>(); }
 
+// The MPI library, as it names itself (callable before MPI_Init): "Open MPI v4.1.4".
+std::string mpi_library() {
+  char text[MPI_MAX_LIBRARY_VERSION_STRING];
+  int len = 0;
+  if (MPI_Get_library_version(text, &len) != MPI_SUCCESS) return "an unknown MPI library";
+  std::string v(text, static_cast<std::size_t>(len));
+  if (const auto eol = v.find_first_of(",\n"); eol != std::string::npos) v.resize(eol);
+  return v;
+}
+
+namespace {
+
+bool g_starting = false;  // inside MPI_Init_thread
+
+// Open MPI ends a process whose MPI_Init fails (its errors are fatal before there is a
+// communicator to set a handler on) with exit(): this says which library failed and makes
+// it exit 3, a run that could not proceed.
+void init_failed_at_exit() {
+  if (!g_starting) return;
+  std::fprintf(stderr,
+               "axonguide: error: MPI could not start (%s, MPI_Init_thread; its own message is above): check the "
+               "launcher (mpirun or srun of the same MPI as this build) and its MCA settings, or run without "
+               "mpirun\n",
+               mpi_library().c_str());
+  std::fflush(stderr);
+  std::_Exit(3);
+}
+
+}  // namespace
+
 MpiSession::MpiSession() {
   int provided = 0;
-  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  g_starting = true;
+  std::atexit(init_failed_at_exit);
+  const int rc = MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  if (rc != MPI_SUCCESS) init_failed_at_exit();
+  g_starting = false;
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
 }
 

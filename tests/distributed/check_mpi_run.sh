@@ -12,7 +12,8 @@
 #  - what cannot proceed exits 2 or 3 with one message, from rank 0, and no rank hangs: too
 #    many ranks for the scene's halo (a step's reach, the particles' sensing radius, the
 #    grid's slabs), --backend emulated (the accelerator), placement too dense (the folder is
-#    left as it was), a folder that holds another run, a checkpoint of another scene.
+#    left as it was), a folder that holds another run, a checkpoint of another scene, and
+#    a launcher that is not this build's MPI's (exit 3, naming the library).
 # Usage: check_mpi_run.sh AXONGUIDE MPIEXEC SOURCE_DIR
 set -euo pipefail
 exe=$1
@@ -159,4 +160,14 @@ refuse 3 'still overlaps an earlier soma' 3 dense.json --out dense
 [ ! -e dense ] || fail "a run whose placement failed left its folder"
 run1 direct.json --out taken && refuse 2 'holds another run' 2 direct.json --out taken
 same one-direct taken
+# Another MPI's launcher (its variables say 2 ranks, this build's MPI sees one): exit 3,
+# naming this build's MPI, and no folder (K copies would each run the whole network).
+set +e
+OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0 PMI_SIZE=2 PMI_RANK=0 timeout 60 "$exe" run direct.json --out foreign -q \
+  > foreign.log 2>&1
+rc=$?
+set -e
+[ $rc -eq 3 ] || fail "a foreign launcher: exited $rc, expected 3: $(cat foreign.log)"
+grep -q "this build's MPI (Open MPI" foreign.log || fail "the message does not name the MPI: $(cat foreign.log)"
+[ ! -e foreign ] || fail "a run under a foreign launcher made its folder"
 echo "refusals: exit 2 or 3, one message from rank 0, no hang, no folder"

@@ -5,15 +5,21 @@
 // most 1 GiB (so a result over 2^31 bytes still arrives). Every MPI error becomes a
 // RunError naming the call. Defined only in builds with MPI (AXG_HAVE_MPI).
 #include <memory>
+#include <string>
 
 #include "axonguide/distributed/comm.hpp"
 
 namespace axg::distributed {
 
+// The MPI library this build runs on, as it names itself ("Open MPI v4.1.4").
+std::string mpi_library();
+
 // A communicator over MPI_COMM_WORLD (a duplicate, with errors returned, not fatal).
 std::unique_ptr<Comm> make_mpi_comm();
 
-// MPI_Init and MPI_Finalize around a command, on every rank. When a rank died, the
+// MPI_Init and MPI_Finalize around a command, on every rank. An MPI_Init that fails and
+// returns ends the process with exit 3 and a message naming the library (Open MPI 4.1 ends
+// the process itself, with its own message and exit 1, from inside MPI_Init). When a rank died, the
 // destructor does not call MPI_Finalize (Open MPI 4.1 would wait for the dead rank
 // forever): it ends the process with exit_code.
 #ifdef AXG_HAVE_MPI

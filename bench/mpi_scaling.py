@@ -10,9 +10,12 @@ bfs.csv and stats.csv compared byte for byte); a mismatch stops the benchmark.
 --field direct (the default): direct-guidance scenes at the report's density (100
   neurons in a ball of radius 2.5 LU), the default wandering, 100 steps.
 --field particles: the particle field, SNR steering on the estimate, at the report's
-  density; sources of 2000 particles a step at the centres of the K blocks (weak) or the
+  density; sources of 20000 particles a step (--emission) at the centres of the K blocks (weak) or the
   first source alone at the centre (strong), 60 steps.
---field grid: the implicit grid field, SNR steering, the same neurons; grid spacing h
+--field gather: the same particles, source_vector_sum steering: every growth cone gathers
+  the particles within r from the hashed grid, so every rank keeps a halo r wide.
+--field grid: the implicit grid field, SNR steering, the same neurons; grid spacing h =
+  radius / 50
   (strong), or h / K^(1/3) so that the nodes grow with K (weak), 60 steps.
 
   strong: N fixed, K = 1, 2, 4 (one thread a rank; the one-process reference engine on
@@ -46,6 +49,7 @@ COMPARED = ["neurons.csv", "connections.csv", "bfs.csv", "stats.csv"]
 
 
 FIELD = "direct"
+EMISSION = 20000  # particles a step from each source
 WEAK_K = 1  # the weak-scaling rank count the scene is sized for (sources, grid nodes)
 
 
@@ -63,15 +67,30 @@ def scene(n):
         return s
     s["guidance"] = {"model": "snr"}
     s["steps"] = 60
-    if FIELD == "particles":
+    s["output"] = {"stats_every": 1}
+    if FIELD == "gather":
+        s["guidance"] = {"model": "source_vector_sum"}
+    if FIELD in ("particles", "gather"):
         centres = block_centres(WEAK_K, radius) if WEAK_K > 1 else [[0.0, 0.0, 0.0]]
-        s["cues"] = {"field": "particles", "sources": [{"kind": "attractant", "position": p, "emission": 2000}
+        s["cues"] = {"field": "particles", "sources": [{"kind": "attractant", "position": p, "emission": EMISSION}
                                                        for p in centres]}
     else:
-        h = round(0.2 * radius / 2.5 / WEAK_K ** (1.0 / 3.0) * 1e4) / 1e4
+        h = round(radius / 50.0 / WEAK_K ** (1.0 / 3.0) * 1e4) / 1e4
         s["cues"] = {"field": "grid", "sources": [{"kind": "attractant", "position": [0.3, 0.2, -0.1]}],
                      "grid": {"spacing": h}}
     return s
+
+
+def field_work(out, m):
+    """Particle-steps (stats.csv) or voxel updates (the grid's note) of a run."""
+    if FIELD in ("particles", "gather"):
+        rows = open(os.path.join(out, "stats.csv")).read().split("\n")[1:]
+        return float(sum(int(r.split(",")[4]) for r in rows if r and not r.startswith("0,")))
+    if FIELD == "grid":
+        import re
+        n = int(re.search(r"(\d+)\^3 nodes", m["summary"]["cue_field"]).group(1))
+        return float(n ** 3) * len(scene(1)["cues"]["sources"]) * m["summary"]["steps_run"]
+    return 0.0
 
 
 def run(cmd, out):
@@ -82,14 +101,15 @@ def run(cmd, out):
     if p.returncode != 0:
         sys.exit(f"{' '.join(cmd)} exited {p.returncode}:\n{p.stderr}")
     m = json.load(open(os.path.join(out, "manifest.json")))
+    m["field_work"] = field_work(out, m)
     return wall, m
 
 
 def measure(exe, mpiexec, n, ranks, repeats, tmp, one_threads):
-    path = os.path.join(tmp, f"scene-{n}.json")
+    path = os.path.join(tmp, f"scene-{n}-{WEAK_K}.json")
     json.dump(scene(n), open(path, "w"))
     rows = []
-    ref_dir = os.path.join(tmp, f"one-{n}")
+    ref_dir = os.path.join(tmp, f"one-{n}-{WEAK_K}")
     for threads in one_threads:
         walls, mans = [], []
         for _ in range(repeats):
@@ -118,11 +138,7 @@ def summarize(n, ranks, threads, walls, mans):
                 for k in mans[0]["timings_seconds"] if k.startswith("particles.") or k.startswith("grid."))
     steps += field
     summary = mans[0]["summary"]
-    work = 0.0
-    if FIELD == "particles":
-        work = mans[0].get("particle_steps", 0.0)
-    elif FIELD == "grid":
-        work = mans[0].get("voxel_updates", 0.0)
+    work = mans[0]["field_work"]
     row = {"neurons": n, "field_s": field, "field_work": work,
            "per_rank_throughput": work / field / max(ranks, 1) if field > 0 else 0.0, "ranks": ranks, "threads": threads, "wall_s": med(walls), "wall_min_s": min(walls),
            "wall_max_s": max(walls), "placement_s": t("placement"), "setup_s": t("setup"), "steps_s": steps,
@@ -148,7 +164,32 @@ def summarize(n, ranks, threads, walls, mans):
     return row
 
 
+def markdown_field(rows, title):
+    unit = "voxel updates/s" if FIELD == "grid" else "particle-steps/s"
+    out = [f"**{title}**", "",
+           f"| neurons | run | wall s (min–max) | field s | steps s (field included) | {unit} per rank | "
+           "migrated particles / step | halo particles / step | ghost values / step | pipeline stages / step | "
+           "halo bytes / step | all bytes / step | peak MiB rank 0 / other |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        who = f"1 process, {r['threads']} thread{'s' if r['threads'] > 1 else ''}" if r["ranks"] == 0 else \
+            f"-np {r['ranks']} ({'×'.join(map(str, r['blocks']))})"
+        dec = r["ranks"] > 0
+        out.append(
+            f"| {r['neurons']:,} | {who} | {r['wall_s']:.2f} ({r['wall_min_s']:.2f}–{r['wall_max_s']:.2f}) | "
+            f"{r['field_s']:.2f} | {r['steps_s']:.2f} | {r['per_rank_throughput']:.3g} | "
+            + (f"{r['migrated_particles_per_step']:.0f} | {r['halo_particles_per_step']:.0f} | "
+               f"{r['ghost_values_per_step']:.0f} | {r['pipeline_stages_per_step']:.0f} | "
+               f"{r['halo_message_bytes_per_step']:.0f} | "
+               f"{r['message_bytes_per_step'] + r['collective_bytes_per_step']:.0f} | "
+               f"{r['peak_rank0_bytes'] / 2**20:.0f} / {r['peak_other_bytes'] / 2**20:.0f} |"
+               if dec else f"– | – | – | – | – | – | {r['peak_rank0_bytes'] / 2**20:.0f} |"))
+    return "\n".join(out)
+
+
 def markdown(rows, title):
+    if FIELD != "direct":
+        return markdown_field(rows, title)
     out = [f"**{title}**", "",
            "| neurons | run | wall s (min–max) | placement s | steps s | readback + graph + output s | "
            "rounds | migrated / step | messages / step | bytes / step | collectives / step / rank | peak MiB rank 0 / other |",
@@ -176,16 +217,22 @@ def main():
     ap.add_argument("--weak", type=int, default=250000)
     ap.add_argument("--ranks", default="1,2,4")
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--field", choices=["direct", "particles", "gather", "grid"], default="direct")
+    ap.add_argument("--emission", type=int, default=20000)
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     a = ap.parse_args()
+    global FIELD, WEAK_K, EMISSION
+    FIELD, EMISSION = a.field, a.emission
     ranks = [int(k) for k in a.ranks.split(",")]
     tmp = tempfile.mkdtemp(prefix="axg-scaling-")
     try:
         strong = measure(a.exe, a.mpiexec, a.strong, ranks, a.repeats, tmp, [1, 2])
         weak = []
         for k in ranks:
+            WEAK_K = k
             weak += measure(a.exe, a.mpiexec, a.weak * k, [k], a.repeats, tmp, [1])
+        WEAK_K = 1
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     text = "\n\n".join([markdown(strong, f"Strong scaling, {a.strong:,} neurons"),

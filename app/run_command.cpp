@@ -559,9 +559,10 @@ int cmd_run(const RunArgs& args) {
       args.threads > 0 ? args.threads : std::max(1, resolve_threads(0) / std::max(1, launch.local_size));
   distributed::MpiSession session;
   const std::unique_ptr<distributed::Comm> comm = distributed::make_mpi_comm();
-  if (comm->size() != launch.size) {
+  if (comm->size() == 1 && launch.size > 1) {
     // Another MPI's launcher (its variables say K ranks; this library sees itself alone):
-    // K copies would each run the whole network into the same folder.
+    // K copies would each run the whole network into the same folder. (A launcher that
+    // does not say its size, such as srun with PMIx, is taken at MPI's word.)
     if (launch.rank == 0)
       std::fprintf(stderr,
                    "axonguide: error: the launcher started %d ranks, but this build's MPI (%s) sees %d: the job's "

@@ -15,7 +15,7 @@ bfs.csv and stats.csv compared byte for byte); a mismatch stops the benchmark.
 --field gather: the same particles, source_vector_sum steering: every growth cone gathers
   the particles within r from the hashed grid, so every rank keeps a halo r wide.
 --field grid: the implicit grid field, SNR steering, the same neurons; grid spacing h =
-  radius / 50
+  radius / 70
   (strong), or h / K^(1/3) so that the nodes grow with K (weak), 60 steps.
 
   strong: N fixed, K = 1, 2, 4 (one thread a rank; the one-process reference engine on
@@ -75,7 +75,7 @@ def scene(n):
         s["cues"] = {"field": "particles", "sources": [{"kind": "attractant", "position": p, "emission": EMISSION}
                                                        for p in centres]}
     else:
-        h = round(radius / 50.0 / WEAK_K ** (1.0 / 3.0) * 1e4) / 1e4
+        h = round(radius / 70.0 / WEAK_K ** (1.0 / 3.0) * 1e4) / 1e4
         s["cues"] = {"field": "grid", "sources": [{"kind": "attractant", "position": [0.3, 0.2, -0.1]}],
                      "grid": {"spacing": h}}
     return s

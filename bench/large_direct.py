@@ -8,7 +8,10 @@ command. The ratio of the largest run to the smallest is the cost of 10x the wor
 cost: 10). Each N runs --repeats times; the medians are reported.
 
 Usage: bench/large_direct.py BUILD/bin/axonguide [--sizes 1000000,10000000] [--repeats R]
-                             [--threads T] [--sonata] [--out DIR] [--json OUT.json]
+                             [--threads T] [--sonata] [--no-csv] [--out DIR] [--json OUT.json]
+
+--sonata writes SONATA beside the CSV; --no-csv writes SONATA instead of it
+(output.csv: false), the format README recommends at 10^7.
 """
 import argparse
 import json
@@ -23,27 +26,29 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def scene(n, sonata):
+def scene(n, sonata, csv=True):
     with open(os.path.join(HERE, "..", "scenes", "paper-direct-5000.json")) as f:
         s = json.load(f)
     s["neurons"]["count"] = n
     s["neurons"]["region"]["radius"] = round(9.2101 * (n / 5000.0) ** (1.0 / 3.0), 3)
-    if sonata:
+    if sonata or not csv:
         s.setdefault("output", {})["sonata"] = True
+    if not csv:
+        s["output"]["csv"] = False
     return s
 
 
-def run_once(binary, n, threads, sonata, work):
+def run_once(binary, n, threads, sonata, work, csv=True):
     path = os.path.join(work, f"scene-{n}.json")
     with open(path, "w") as f:
-        json.dump(scene(n, sonata), f)
+        json.dump(scene(n, sonata, csv), f)
     out = os.path.join(work, f"out-{n}")
     t0 = time.monotonic()
     subprocess.run([binary, "run", path, "--out", out, "--force", "-q", "--threads", str(threads)], check=True)
     wall = time.monotonic() - t0
     with open(os.path.join(out, "manifest.json")) as f:
         m = json.load(f)
-    size = sum(os.path.getsize(os.path.join(out, x)) for x in os.listdir(out))
+    size = sum(os.path.getsize(os.path.join(d, x)) for d, _, files in os.walk(out) for x in files)
     shutil.rmtree(out)
     return {"wall": wall, "phases": m["timings_seconds"], "peak": m["peak_memory_bytes"], "bytes_out": size}
 
@@ -55,6 +60,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--sonata", action="store_true", help="output.sonata (the CSV files are written too)")
+    ap.add_argument("--no-csv", action="store_true", help="output.sonata and output.csv = false: SONATA alone")
     ap.add_argument("--out", default=None, help="working folder (default: a temporary one)")
     ap.add_argument("--json", default=None)
     a = ap.parse_args()
@@ -63,7 +69,7 @@ def main():
     os.makedirs(work, exist_ok=True)
     rows = []
     for n in sizes:
-        runs = [run_once(a.binary, n, a.threads, a.sonata, work) for _ in range(a.repeats)]
+        runs = [run_once(a.binary, n, a.threads, a.sonata, work, not a.no_csv) for _ in range(a.repeats)]
         phases = {k: statistics.median(r["phases"].get(k, 0.0) for r in runs) for k in runs[0]["phases"]}
         row = {"neurons": n, "wall": statistics.median(r["wall"] for r in runs), "phases": phases,
                "peak_bytes": max(r["peak"] for r in runs), "bytes_out": runs[0]["bytes_out"]}

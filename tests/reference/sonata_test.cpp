@@ -117,5 +117,41 @@ TEST(sonata, CommandListsTheFilesAndTheFolderVerifies) {
     EXPECT_EQ(sha256_file(again.path() / name), sha256_file(out / name)) << name;
 }
 
+// output.csv = false leaves the network to SONATA: no neurons.csv or connections.csv, the
+// same SONATA bytes as beside the CSV, a folder that verifies; without SONATA it is refused
+// (exit 2, the key named), since no file would hold the network.
+TEST(sonata, WithoutTheCsvTheNetworkIsSonataAlone) {
+  test::TempDir tmp;
+  Scene s = small_scene();
+  s.output.csv = false;
+  const fs::path scene = tmp.path() / "scene.json";
+  std::ofstream(scene) << scene_to_json(s).dump();
+  const fs::path out = tmp.path() / "out";
+  const std::string run = fmt::format("{} run {} -q --threads 2 --out {} >/dev/null 2>{}", test::binary(),
+                                      scene.string(), out.string(), (tmp.path() / "err.txt").string());
+  const int status = std::system(run.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::read_file(tmp.path() / "err.txt");
+  EXPECT_FALSE(fs::exists(out / "neurons.csv"));
+  EXPECT_FALSE(fs::exists(out / "connections.csv"));
+  EXPECT_TRUE(fs::exists(out / "stats.csv"));
+  const auto m = nlohmann::json::parse(test::read_file(out / "manifest.json"));
+  EXPECT_FALSE(m["files"].contains("neurons.csv"));
+  EXPECT_EQ(m["scene"]["output"]["csv"], false);
+  const int verify = std::system(fmt::format("{} verify {} >/dev/null 2>&1", test::binary(), out.string()).c_str());
+  EXPECT_TRUE(WIFEXITED(verify) && WEXITSTATUS(verify) == 0);
+  test::TempDir with_csv;
+  write_outputs(run_on(1, small_scene()), with_csv.path(), "test", 1, {});
+  for (const char* name : kSonataFiles)
+    EXPECT_EQ(sha256_file(with_csv.path() / name), sha256_file(out / name)) << name;
+  s.output.sonata = false;
+  std::ofstream(scene) << scene_to_json(s).dump();
+  const int refused = std::system(fmt::format("{} run {} -q --out {} >/dev/null 2>{}", test::binary(), scene.string(),
+                                              (tmp.path() / "refused").string(), (tmp.path() / "err.txt").string())
+                                      .c_str());
+  EXPECT_TRUE(WIFEXITED(refused) && WEXITSTATUS(refused) == 2);
+  EXPECT_NE(test::read_file(tmp.path() / "err.txt").find("output.csv = false"), std::string::npos);
+  EXPECT_FALSE(fs::exists(tmp.path() / "refused"));
+}
+
 }  // namespace
 }  // namespace axg

@@ -212,6 +212,9 @@ struct Scene {
     double checkpoint_interval() const { return checkpoint_seconds.value_or(600.0); }
     bool swc = false;     // morphologies/<id>.swc: the soma and the axon's path (needs paths)
     bool sonata = false;  // network/: SONATA nodes.h5, edges.h5, type tables, circuit_config.json
+    // neurons.csv and connections.csv; false (with sonata) leaves the network to SONATA
+    // alone, the format for large networks (2.2 GB of CSV at 10^7 neurons).
+    bool csv = true;
     // graph.graphml: true, false, or nullopt = written up to kGraphmlAutoLimit neurons.
     std::optional<bool> graphml;
     // Axonal conduction speed for the SONATA edges' delays, m/s (= mm/ms); nullopt: 0.5.

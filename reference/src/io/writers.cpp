@@ -175,7 +175,8 @@ void write_timings(const RunResult& r, AtomicFile& f) {
 }  // namespace
 
 std::vector<std::string> planned_outputs(const Scene& s) {
-  std::vector<std::string> names = {"neurons.csv", "connections.csv", "stats.csv", "timings.csv"};
+  std::vector<std::string> names = {"stats.csv", "timings.csv"};
+  if (s.output.csv) names.insert(names.begin(), {"neurons.csv", "connections.csv"});
   if (s.writes_graphml()) names.push_back("graph.graphml");
   if (!s.analysis.bfs_sources.empty() || s.analysis.components) names.push_back("bfs.csv");
   if (s.output.paths) names.push_back("paths.csv");
@@ -228,8 +229,10 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
     info.files.emplace_back(name, f.commit());
   };
   const auto t0 = std::chrono::steady_clock::now();
-  emit("neurons.csv", write_neurons);
-  emit("connections.csv", write_connections);
+  if (r.scene.output.csv) {
+    emit("neurons.csv", write_neurons);
+    emit("connections.csv", write_connections);
+  }
   emit("stats.csv", write_stats);
   if (r.graph.bfs || !r.graph.component.empty()) emit("bfs.csv", write_bfs);
   if (r.scene.output.paths) emit("paths.csv", write_paths);

@@ -458,6 +458,7 @@ void read_scene(const json& root, Scene& s) {
     r.optional_number("checkpoint_seconds", s.output.checkpoint_seconds, non_negative());
     r.boolean("swc", s.output.swc);
     r.boolean("sonata", s.output.sonata);
+    r.boolean("csv", s.output.csv);
     if (const json* v = r.take("graphml")) {
       if (v->is_null()) s.output.graphml.reset();
       else if (v->is_boolean()) s.output.graphml = v->get<bool>();
@@ -466,6 +467,9 @@ void read_scene(const json& root, Scene& s) {
     }
     r.optional_number("conduction_speed", s.output.conduction_speed, positive());
     r.finish();
+    if (!s.output.csv && !s.output.sonata)
+      throw InputError("scene: output.csv = false: no file would hold the neurons and connections; set "
+                       "output.sonata = true (SONATA's nodes.h5 and edges.h5 then hold them), or keep the CSV");
   }
   top.finish();
 }
@@ -796,6 +800,7 @@ json scene_to_json(const Scene& s) {
   // scene that does not use them keeps its canonical form (and hash).
   if (s.output.swc) j["output"]["swc"] = true;
   if (s.output.sonata) j["output"]["sonata"] = true;
+  if (!s.output.csv) j["output"]["csv"] = false;
   if (s.output.graphml) j["output"]["graphml"] = *s.output.graphml;
   if (s.output.conduction_speed) j["output"]["conduction_speed"] = *s.output.conduction_speed;
   if (c.molecule_amount) j["cues"]["molecule_amount"] = *c.molecule_amount;

@@ -253,13 +253,16 @@ TEST(decomposed, ParticleAndGridScenesOnOneTwoFourAndEightRanks) {
       const nlohmann::json& f = facts["per_step"];
       if (s.cues.field == FieldKind::kParticles) {
         EXPECT_GT(f["migrated_particles"].get<double>(), 0.0) << name << facts.dump();
-        if (particle_grid_used(s)) EXPECT_GT(f["halo_particles"].get<double>(), 0.0) << name << facts.dump();
+        if (particle_grid_used(s)) {
+          EXPECT_GT(f["halo_particles"].get<double>(), 0.0) << name << facts.dump();
+        }
       } else {
         EXPECT_GT(f["ghost_values"].get<double>(), 0.0) << name << facts.dump();
-        if (s.cues.grid.scheme == GridScheme::kImplicit)
+        if (s.cues.grid.scheme == GridScheme::kImplicit) {
           EXPECT_EQ(f["pipeline_stages"].get<double>(),  // forward and back, per cue
                     2.0 * (4 * ranks + ranks - 1) * static_cast<double>(make_cues(s).size()))
               << name << facts.dump();
+        }
       }
     }
   }

@@ -44,6 +44,16 @@ struct HaloParticle {
   std::uint16_t cue;
 };
 
+// Records received as runs, each in id order (a rank sends its particles in id order):
+// merged into one run in id order, O(n log runs).
+template <class T>
+void merge_runs(std::vector<T>& v, const std::vector<std::size_t>& ends) {
+  auto by_id = [](const T& a, const T& b) { return a.id < b.id; };
+  for (std::size_t k = 1; k < ends.size(); ++k)
+    std::inplace_merge(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(ends[k - 1]),
+                       v.begin() + static_cast<std::ptrdiff_t>(ends[k]), by_id);
+}
+
 class DecomposedParticleField final : public CueField {
  public:
   DecomposedParticleField(const Scene& scene, const std::vector<core::CueParams>& cues, const Decomposition& d,
@@ -131,9 +141,12 @@ class DecomposedParticleField final : public CueField {
       append(mine, &h, 1);
     }
     std::vector<HaloParticle> all;
-    for (const Bytes& from : comm_.gather(std::move(mine)))
+    std::vector<std::size_t> ends;
+    for (const Bytes& from : comm_.gather(std::move(mine))) {
       for_each_record<HaloParticle>(from, [&](const HaloParticle& h) { all.push_back(h); });
-    std::sort(all.begin(), all.end(), [](const HaloParticle& a, const HaloParticle& b) { return a.id < b.id; });
+      ends.push_back(all.size());
+    }
+    merge_runs(all, ends);
     pos.resize(all.size());
     cue.resize(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) pos[i] = all[i].pos, cue[i] = all[i].cue;
@@ -149,10 +162,13 @@ class DecomposedParticleField final : public CueField {
       append(mine, &m, 1);
     }
     std::vector<Migrant> all;
-    for (const Bytes& from : comm_.gather(std::move(mine)))
+    std::vector<std::size_t> ends;
+    for (const Bytes& from : comm_.gather(std::move(mine))) {
       for_each_record<Migrant>(from, [&](const Migrant& m) { all.push_back(m); });
+      ends.push_back(all.size());
+    }
     if (!comm_.root()) return;
-    std::sort(all.begin(), all.end(), [](const Migrant& a, const Migrant& b) { return a.id < b.id; });
+    merge_runs(all, ends);
     out.next_particle_id = next_id_;
     out.particle_pos.resize(all.size());
     out.particle_vel.resize(ballistic_ ? all.size() : 0);
@@ -271,14 +287,19 @@ class DecomposedParticleField final : public CueField {
     pos_.resize(w), id_.resize(w), source_.resize(w);
     if (ballistic_) vel_.resize(w);
     std::vector<Migrant> in;
-    for (const Bytes& from : comm_.exchange(out))
+    std::vector<std::size_t> ends;
+    for (const Bytes& from : comm_.exchange(out)) {
       for_each_record<Migrant>(from, [&](const Migrant& m) { in.push_back(m); });
-    for (const Bytes& from : comm_.allgather(far))
+      ends.push_back(in.size());
+    }
+    for (const Bytes& from : comm_.allgather(far)) {
       for_each_record<Migrant>(from, [&](const Migrant& m) {
         if (d_.owner(m.pos) == rank_) in.push_back(m);
       });
+      ends.push_back(in.size());
+    }
     if (in.empty()) return;
-    std::sort(in.begin(), in.end(), [](const Migrant& a, const Migrant& b) { return a.id < b.id; });
+    merge_runs(in, ends);
     merge_arrivals(in);
   }
 
@@ -315,9 +336,12 @@ class DecomposedParticleField final : public CueField {
         if (d_.near(neighbours_[k], pos_[i], width_)) append(out[k], &h, 1);
     }
     std::vector<HaloParticle> halo;
-    for (const Bytes& from : comm_.exchange(out))
+    std::vector<std::size_t> ends;
+    for (const Bytes& from : comm_.exchange(out)) {
       for_each_record<HaloParticle>(from, [&](const HaloParticle& h) { halo.push_back(h); });
-    std::sort(halo.begin(), halo.end(), [](const HaloParticle& a, const HaloParticle& b) { return a.id < b.id; });
+      ends.push_back(halo.size());
+    }
+    merge_runs(halo, ends);
     report_.halo_particles += halo.size();
     const std::size_t n = pos_.size() + halo.size();
     local_pos_.resize(n), local_source_.resize(n), local_slot_.resize(pos_.size());

@@ -127,6 +127,17 @@ for scene in plong glong; do
 done
 echo "kill -9 of one of 2 ranks in a particle and a grid run: resumed on 4 ranks and in one process to the same bytes"
 
+# SIGTERM to one rank of a particle run: every rank stops after the same step; resumed on 3.
+set +e
+AXG_FAULT_KILL_AT="step 10" AXG_FAULT_SIGNAL=TERM AXG_FAULT_RANK=1 runk 2 plong.json --out pstopped 2> pstopped.log
+rc=$?
+set -e
+[ $rc -eq 143 ] || fail "SIGTERM to rank 1 of a particle run: mpirun exited $rc, expected 143 ($(cat pstopped.log))"
+grep -q 'interrupted by SIGTERM after step 10' pstopped.log || fail "no message from rank 0: $(cat pstopped.log)"
+runk 3 --resume pstopped || fail "the particle run's resume on 3 ranks exited $?"
+same one-plong pstopped
+echo "SIGTERM to one of 2 ranks of a particle run: stopped after step 10; resumed on 3 ranks to the same bytes"
+
 # What cannot proceed: exit 2 or 3, one message from rank 0, no hang, no folder.
 refuse() {  # refuse CODE PATTERN NP ARGS...: exit CODE, one error line matching PATTERN
   local code=$1 pattern=$2 k=$3; shift 3

@@ -105,18 +105,18 @@ Decomposition decompose(const Scene& scene, int ranks) {
   }
   if (scene.uses_cues() && scene.cues.field == FieldKind::kGrid) {
     // Slabs over the grid's cube (the field's work; somas beyond it belong to the outer
-    // slabs), each at least two planes thick.
+    // slabs), each at least as thick as the three ghost planes its neighbours keep.
     const GridGeometry3 g = grid_field_geometry(scene);
     d.slabs = true;
     d.half = 0.5 * (g.n - 1) * g.h + 0.5 * g.h;
-    if (2.0 * g.h * 1.001 > d.halo) {
-      d.halo = 2.0 * g.h * 1.001;
-      set_by = "two grid planes of ghost nodes";
+    if (3.0 * g.h * 1.001 > d.halo) {
+      d.halo = 3.0 * g.h * 1.001;
+      set_by = "three grid planes of ghost nodes";
     }
   }
 
   // The most cubic factorisation: the least P_x + P_y + P_z, then the most cuts along x, y.
-  int best = d.slabs ? 0 : -1;
+  int best = -1;
   if (d.slabs) d.blocks = {1, 1, ranks};
   for (int px = 1; px <= ranks && !d.slabs; ++px) {
     if (ranks % px) continue;

@@ -1,5 +1,5 @@
 // The grid field over ranks (fields.hpp; docs/scaling.md §2.4): a rank owns the z-planes of
-// its slab, [z0, z1), and stores [z0 - 2, z1 + 2) clamped to the grid. Every owned node is
+// its slab, [z0, z1), and stores [z0 - 3, z1 + 3) clamped to the grid. Every owned node is
 // computed by the one-process expression from the same values:
 //  - sources: the core deposit's eight nodes, each added by its plane's owner;
 //  - explicit FTCS: core::ftcs_node on the slab (one ghost plane each side, exchanged
@@ -10,8 +10,11 @@
 //    forward from the (c', d') that rank r - 1 passed up for that batch, then in the back
 //    substitution batch t - (K - 1 - r) from the solution rank r + 1 passed down. Each
 //    row's lod_forward / lod_backward call is the one-process call with the same inputs.
-//  - sensing: core::sample_grid_field on the slab, whose two ghost planes each side (the
-//    interpolation's cell and its centred differences) are exchanged after the step.
+//  - sensing: core::sample_grid_field on the slab, whose ghost planes each side are
+//    exchanged after the step: a tip of the slab reads the planes of its cell and one more
+//    each way (the centred differences), two beyond the slab; a third covers a tip within
+//    rounding of a slab face that lies on a plane (mesh_locate's (z - origin) / h may then
+//    land on the next cell).
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -28,6 +31,8 @@
 namespace axg::distributed {
 
 namespace {
+
+inline constexpr int kGhosts = 3;  // ghost planes each side for sensing (the stencil needs 1)
 
 class DecomposedGridField final : public CueField {
  public:
@@ -62,11 +67,11 @@ class DecomposedGridField final : public CueField {
     z0_ = first_[static_cast<std::size_t>(rank_)];
     z1_ = first_[static_cast<std::size_t>(rank_) + 1];
     for (int r = 0; r < ranks_; ++r)
-      if (first_[static_cast<std::size_t>(r) + 1] - first_[static_cast<std::size_t>(r)] < 2 && ranks_ > 1)
-        throw InputError("decomposed grid field: a slab holds fewer than two grid planes (the halo rule keeps "
-                         "slabs two planes thick; this is a bug)");
-    g0_ = std::max(0, z0_ - 2);
-    g1_ = std::min(n, z1_ + 2);
+      if (first_[static_cast<std::size_t>(r) + 1] - first_[static_cast<std::size_t>(r)] < kGhosts && ranks_ > 1)
+        throw InputError("decomposed grid field: a slab holds fewer planes than its ghost layers (the halo rule "
+                         "keeps slabs three planes thick; this is a bug)");
+    g0_ = std::max(0, z0_ - kGhosts);
+    g1_ = std::min(n, z1_ + kGhosts);
     plane_ = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
     slab_ = static_cast<std::size_t>(g1_ - g0_) * plane_;
     buffer_[0].assign(cues_.size() * slab_, 0.0);
@@ -90,7 +95,7 @@ class DecomposedGridField final : public CueField {
       }
     }
     ScopedPhase p(times, step, "grid.ghosts");
-    for (std::size_t k = 0; k < cues_.size(); ++k) exchange_ghosts(values(k, cur_[k]), 2);
+    for (std::size_t k = 0; k < cues_.size(); ++k) exchange_ghosts(values(k, cur_[k]), kGhosts);
   }
 
   void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {

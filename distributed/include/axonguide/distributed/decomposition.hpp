@@ -28,7 +28,7 @@ struct Decomposition {
   // radius, the collision diameter), LU; 0 when no gather reads particles. Within `halo`.
   double particle_halo = 0.0;
   // A grid scene is cut in slabs along z (blocks 1 x 1 x K) over the grid's cube, so that
-  // the x and y sweeps of the implicit solve are local; its ghost planes are two nodes wide.
+  // the x and y sweeps of the implicit solve are local; its ghost planes are three nodes wide.
   bool slabs = false;
 
   std::array<int, 3> block_of(core::Vec3 p) const;

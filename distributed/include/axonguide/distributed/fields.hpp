@@ -10,8 +10,9 @@
 //    process. The estimate's fixed-point deposits are summed over the ranks (integer sums,
 //    exact in any order) and every rank folds the whole estimate.
 //  - grid: a rank owns the slab of grid planes in its block (the decomposition is in slabs
-//    along z for a grid scene), with two ghost planes each side: one for the explicit
-//    stencil, two for the sensing interpolation's centred differences. The implicit LOD
+//    along z for a grid scene), with three ghost planes each side: one for the explicit
+//    stencil, two for the sensing interpolation's centred differences, one more for a tip
+//    within rounding of a slab face. The implicit LOD
 //    solve's x and y sweeps are local; the z sweep is the serial Thomas algorithm
 //    pipelined across the ranks: its forward elimination passes each line's (c', d') up,
 //    its back substitution passes each line's solution down, in batches of planes, so

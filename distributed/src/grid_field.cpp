@@ -68,8 +68,8 @@ class DecomposedGridField final : public CueField {
     z1_ = first_[static_cast<std::size_t>(rank_) + 1];
     for (int r = 0; r < ranks_; ++r)
       if (first_[static_cast<std::size_t>(r) + 1] - first_[static_cast<std::size_t>(r)] < kGhosts && ranks_ > 1)
-        throw InputError("decomposed grid field: a slab holds fewer planes than its ghost layers (the halo rule "
-                         "keeps slabs three planes thick; this is a bug)");
+        throw RunError("decomposed grid field: a slab holds fewer planes than its ghost layers (the halo rule "
+                       "keeps slabs three planes thick; this is a bug)");
     g0_ = std::max(0, z0_ - kGhosts);
     g1_ = std::min(n, z1_ + kGhosts);
     plane_ = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);

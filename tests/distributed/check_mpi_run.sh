@@ -153,7 +153,7 @@ echo '{"neurons": {"count": 20, "region": {"radius": 1.2}}, "guidance": {"model"
 refuse 2 'narrower than the halo' 5 small.json --out small
 [ ! -e small ] || fail "a refused run made its folder"
 # The particles' sensing radius sets the halo of source_vector_sum's gathers; a grid scene
-# is cut in slabs along z, each at least two planes thick.
+# is cut in slabs along z, each at least three planes thick.
 /usr/bin/python3 -c "import json; s=json.load(open('particles-source-vector-sum.json')); \
 s['guidance']['sensing_radius']=4.0; json.dump(s, open('wide.json', 'w'))"
 refuse 2 'the particles within the sensing radius.*at most 1 rank)' 2 wide.json --out wide

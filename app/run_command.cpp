@@ -140,6 +140,13 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
                d["somas_per_rank"]["max"].get<std::uint64_t>(), d["placement"]["rounds"].get<std::uint64_t>(),
                d["per_step"]["migrated_axons"].get<double>(), d["per_step"]["messages"].get<double>(),
                d["per_step"]["message_bytes"].get<double>(), d["per_step"]["collectives_per_rank"].get<double>());
+  if (!d.is_null() && s.uses_cues() && s.cues.field == FieldKind::kParticles)
+    fmt::print("          per step {:.0f} particles migrate and {:.0f} are received into halos\n",
+               d["per_step"]["migrated_particles"].get<double>(), d["per_step"]["halo_particles"].get<double>());
+  if (!d.is_null() && s.uses_cues() && s.cues.field == FieldKind::kGrid)
+    fmt::print("          per step {:.0f} grid values are received into ghost planes; the implicit sweeps' "
+               "pipeline takes {:.0f} exchanges\n",
+               d["per_step"]["ghost_values"].get<double>(), d["per_step"]["pipeline_stages"].get<double>());
   double steps_time = 0, grow_time = 0;
   for (const auto& row : r.times.rows())
     if (row.step > 0) {

@@ -101,7 +101,9 @@ class DecomposedEngine final : public Engine {
   void warm_up() override {
     if (!field_) return;
     PhaseTimes warmup;
+    const FieldReport before = report_.field;  // the run facts count the growth steps
     for (std::uint32_t s = 1; s <= scene_.cues.warmup_steps; ++s) field_->advance(s, warmup);
+    report_.field = before;
   }
 
   void save(EngineState& out) override {

@@ -123,7 +123,10 @@ inline rc::Gen<Scene> gen_placement_scene(std::uint64_t max_count) {
     if (*rc::gen::element(false, true) && s.neurons.shape != RegionShape::kSphere) {
       s.neurons.populations = {Population{s.neurons.count / 2, {-4.0, 0, 0}, 5.0},
                                Population{s.neurons.count - s.neurons.count / 2, {4.0, 0, 0}, 5.0}};
-      s.neurons.soma_radius = 5.0 * std::cbrt(std::min(phi, 0.3) / n * 2.0);
+      // The larger population (an odd count's second) sets the packing: at most 0.3, below
+      // the up-front refusal of a population past jamming (0.38).
+      const double larger = static_cast<double>(s.neurons.count - s.neurons.count / 2);
+      s.neurons.soma_radius = 5.0 * std::cbrt(std::min(phi, 0.3) / larger);
     }
     return s;
   });

@@ -22,7 +22,7 @@
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/error.hpp"
-#include "axonguide/radix_sort.hpp"
+#include "axonguide/particle_stages.hpp"
 
 namespace axg::distributed {
 
@@ -77,7 +77,7 @@ class DecomposedParticleField final : public CueField {
         width_(d.particle_halo),
         report_(report) {
     for (std::size_t k = 0; k < neighbours_.size(); ++k) peer_of_[neighbours_[k]] = static_cast<int>(k);
-    cell_start_.assign(use_grid_ ? geometry_.buckets() + 1 : 1, 0);
+    grid_.reserve_starts(geometry_, use_grid_);
     if (use_estimate_) {
       estimate_.assign(2 * cues_.size() * mesh_.nodes, 0.0);
       deposit_.assign(estimate_.size(), 0);
@@ -91,7 +91,7 @@ class DecomposedParticleField final : public CueField {
     }
     {
       ScopedPhase p(times, step, "particles.move");
-      move(step);
+      move_particles(seed_, step, cues_, params_, ballistic_, pos_, vel_, id_, source_, keep_);
     }
     {
       ScopedPhase p(times, step, "particles.compact");
@@ -104,7 +104,7 @@ class DecomposedParticleField final : public CueField {
     if (use_grid_) {
       ScopedPhase p(times, step, "particles.grid");
       refresh_halo();
-      build_grid();
+      grid_.build(geometry_, local_pos_, local_source_);
     }
     if (params_.collisions) {
       ScopedPhase p(times, step, "particles.collide");
@@ -112,20 +112,20 @@ class DecomposedParticleField final : public CueField {
       migrate();
       if (gathers_) {  // the one-process grid after the collisions is read only by gathers
         refresh_halo();
-        build_grid();
+        grid_.build(geometry_, local_pos_, local_source_);
       }
     }
     if (use_estimate_) {
       ScopedPhase p(times, step, "particles.estimate");
-      deposit();
-      if (comm_.size() > 1) comm_.allreduce(deposit_, Reduce::kSum);
-      fold(step);
+      deposit_particles(mesh_, cues_.size(), pos_, id_, source_, deposit_);  // this rank's particles
+      if (comm_.size() > 1) comm_.allreduce(deposit_, Reduce::kSum);          // exact integer sums
+      fold_estimate(step, estimate_params_, estimate_, deposit_);
     }
     report_.owned_particles += pos_.size();
   }
 
   void sample(Vec3 x, core::CueSample* samples, Vec3* pull) const override {
-    core::sample_particle_field(x, view(), estimate_set(), cues_.data(), static_cast<int>(cues_.size()), sense_,
+    core::sample_particle_field(x, grid_.view(geometry_), estimate_set(), cues_.data(), static_cast<int>(cues_.size()), sense_,
                                 samples, pull);
   }
 
@@ -208,16 +208,10 @@ class DecomposedParticleField final : public CueField {
   std::size_t bytes() const override {
     return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
            keep_.capacity() + local_pos_.capacity() * 24 + local_source_.capacity() * 2 + local_slot_.capacity() * 4 +
-           keys_.capacity() * 4 + index_.capacity() * 4 + sorted_pos_.capacity() * 24 + sorted_source_.capacity() * 2 +
-           cell_start_.capacity() * 4 + estimate_.capacity() * 8 + deposit_.capacity() * 8;
+           grid_.bytes() + estimate_.capacity() * 8 + deposit_.capacity() * 8;
   }
 
  private:
-  core::HashGridView view() const {
-    return {geometry_.origin, geometry_.cell, geometry_.dim, cell_start_.data(), index_.data(),
-            sorted_pos_.data(), sorted_source_.data()};
-  }
-
   core::EstimateSet estimate_set() const {
     core::EstimateSet e = mesh_;
     e.c = estimate_.data();
@@ -238,19 +232,6 @@ class DecomposedParticleField final : public CueField {
         if (ballistic_) vel_.push_back(core::birth_velocity(seed_, id, step, params_));
       }
     }
-  }
-
-  void move(std::uint32_t step) {
-    keep_.resize(pos_.size());
-    const Vec3 unused{0, 0, 0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pos_.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                          Vec3 v = ballistic_ ? vel_[i] : unused;
-                          keep_[i] = core::particle_step(seed_, id_[i], step, pos_[i], v, cues_[source_[i]], params_);
-                          if (ballistic_) vel_[i] = v;
-                        }
-                      });
   }
 
   void compact() {
@@ -361,31 +342,10 @@ class DecomposedParticleField final : public CueField {
     report_.halo.collectives += spent.collectives, report_.halo.collective_bytes += spent.collective_bytes;
   }
 
-  // The one-process build over this rank's and its halo's particles (in id order).
-  void build_grid() {
-    const std::size_t n = local_pos_.size();
-    const core::HashGridView geometry{geometry_.origin, geometry_.cell, geometry_.dim, nullptr, nullptr, nullptr, nullptr};
-    keys_.resize(n);
-    index_.resize(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      keys_[i] = core::hash_of(local_pos_[i], geometry);
-      index_[i] = static_cast<std::uint32_t>(i);
-    });
-    const auto buckets = static_cast<std::uint32_t>(geometry_.buckets());
-    stable_sort_by_key(keys_, index_, buckets - 1, sort_scratch_);
-    cell_starts(keys_, buckets, cell_start_);
-    sorted_pos_.resize(n);
-    sorted_source_.resize(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
-      sorted_pos_[k] = local_pos_[index_[k]];
-      sorted_source_[k] = local_source_[index_[k]];
-    });
-  }
-
   // Jacobi, as in one process: every particle of this block reads the positions before the
   // collisions (its own and the halo's) and writes its own.
   void collide() {
-    const core::HashGridView g = view();
+    const core::HashGridView g = grid_.view(geometry_);
     tbb::parallel_for(std::size_t{0}, pos_.size(), [&](std::size_t i) {
       const std::uint32_t slot = local_slot_[i];
       const Vec3 x = local_pos_[slot];
@@ -393,35 +353,6 @@ class DecomposedParticleField final : public CueField {
       pos_[i] = x + push;
       if (ballistic_) vel_[i] = vel_[i] + push / params_.dt;
     });
-  }
-
-  // This rank's particles' fixed-point deposits into the whole estimate (integer sums,
-  // summed over the ranks next).
-  void deposit() {
-    const std::size_t nodes = mesh_.nodes;
-    const auto meshes = static_cast<int>(2 * cues_.size());
-    tbb::parallel_for(0, meshes, [&](int m) {
-      const auto cue = static_cast<std::uint16_t>(m / 2);
-      const int half = m % 2;
-      std::uint64_t* q = deposit_.data() + static_cast<std::size_t>(m) * nodes;
-      for (std::size_t i = 0; i < pos_.size(); ++i) {
-        if (source_[i] != cue || core::estimate_half_of(id_[i]) != half) continue;
-        if (!core::cic_inside(pos_[i], mesh_.origin[cue], mesh_.h, mesh_.n)) continue;
-        const core::CicDeposit d = core::cic_deposit(pos_[i], mesh_.origin[cue], mesh_.h, mesh_.n);
-        for (int c = 0; c < 8; ++c) q[d.index[c]] += d.weight[c];
-      }
-    });
-  }
-
-  void fold(std::uint32_t step) {
-    const core::EstimateFold f = core::estimate_fold(step, estimate_params_.beta, estimate_params_.scale);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, estimate_.size(), 16384),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                          estimate_[i] = core::fold_node(estimate_[i], deposit_[i], f);
-                          deposit_[i] = 0;
-                        }
-                      });
   }
 
   std::uint64_t seed_;
@@ -455,10 +386,7 @@ class DecomposedParticleField final : public CueField {
   std::vector<Vec3> local_pos_;
   std::vector<std::uint16_t> local_source_;
   std::vector<std::uint32_t> local_slot_;
-  SortScratch sort_scratch_;
-  std::vector<std::uint32_t> keys_, index_, cell_start_;
-  std::vector<Vec3> sorted_pos_;
-  std::vector<std::uint16_t> sorted_source_;
+  ParticleHashGrid grid_;
   // The whole estimate (2 K meshes), the same on every rank.
   std::vector<double> estimate_;
   std::vector<std::uint64_t> deposit_;

@@ -15,7 +15,7 @@
 #include "axonguide/core/particles.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/fields.hpp"
-#include "axonguide/radix_sort.hpp"
+#include "axonguide/particle_stages.hpp"
 
 namespace axg {
 
@@ -34,7 +34,7 @@ class ParticleField final : public CueField {
         use_estimate_(particle_estimate_used(scene)),
         mesh_(estimate_geometry(scene)),
         estimate_params_(estimate_params(scene)) {
-    cell_start_.assign(use_grid_ ? geometry_.buckets() + 1 : 1, 0);
+    grid_.reserve_starts(geometry_, use_grid_);
     if (use_estimate_) {
       estimate_.assign(2 * cues_.size() * mesh_.nodes, 0.0);
       deposit_.assign(estimate_.size(), 0);
@@ -48,7 +48,7 @@ class ParticleField final : public CueField {
     }
     {
       ScopedPhase p(times, step, "particles.move");
-      move(step);
+      move_particles(seed_, step, cues_, params_, ballistic_, pos_, vel_, id_, source_, keep_);
     }
     {
       ScopedPhase p(times, step, "particles.compact");
@@ -56,22 +56,22 @@ class ParticleField final : public CueField {
     }
     if (use_grid_) {
       ScopedPhase p(times, step, "particles.grid");
-      build_grid();
+      grid_.build(geometry_, pos_, source_);
     }
     if (params_.collisions) {
       ScopedPhase p(times, step, "particles.collide");
       collide();
-      build_grid();
+      grid_.build(geometry_, pos_, source_);
     }
     if (use_estimate_) {
       ScopedPhase p(times, step, "particles.estimate");
-      deposit();
-      fold(step);
+      deposit_particles(mesh_, cues_.size(), pos_, id_, source_, deposit_);
+      fold_estimate(step, estimate_params_, estimate_, deposit_);
     }
   }
 
   void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
-    core::sample_particle_field(x, view(), estimate_set(), cues_.data(), static_cast<int>(cues_.size()), sense_, samples,
+    core::sample_particle_field(x, grid_.view(geometry_), estimate_set(), cues_.data(), static_cast<int>(cues_.size()), sense_, samples,
                                 pull);
   }
 
@@ -109,52 +109,14 @@ class ParticleField final : public CueField {
 
   std::size_t bytes() const override {
     return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
-           keep_.capacity() + keys_.capacity() * 4 + index_.capacity() * 4 + sorted_pos_.capacity() * 24 +
-           sorted_source_.capacity() * 2 + cell_start_.capacity() * 4 + estimate_.capacity() * 8 +
-           deposit_.capacity() * 8;
+           keep_.capacity() + grid_.bytes() + estimate_.capacity() * 8 + deposit_.capacity() * 8;
   }
 
  private:
-  core::HashGridView view() const {
-    return {geometry_.origin, geometry_.cell, geometry_.dim, cell_start_.data(), index_.data(),
-            sorted_pos_.data(), sorted_source_.data()};
-  }
-
   core::EstimateSet estimate_set() const {
     core::EstimateSet e = mesh_;
     e.c = estimate_.data();
     return e;
-  }
-
-  // Every particle's cloud-in-cell weights into the deposit of its cue and half: one task
-  // per (cue, half), each over the particles in id order (integer sums: any order gives
-  // the same bytes).
-  void deposit() {
-    const std::size_t nodes = mesh_.nodes;
-    const auto meshes = static_cast<int>(2 * cues_.size());
-    tbb::parallel_for(0, meshes, [&](int m) {
-      const auto cue = static_cast<std::uint16_t>(m / 2);
-      const int half = m % 2;
-      std::uint64_t* q = deposit_.data() + static_cast<std::size_t>(m) * nodes;
-      for (std::size_t i = 0; i < pos_.size(); ++i) {
-        if (source_[i] != cue || core::estimate_half_of(id_[i]) != half) continue;
-        if (!core::cic_inside(pos_[i], mesh_.origin[cue], mesh_.h, mesh_.n)) continue;
-        const core::CicDeposit d = core::cic_deposit(pos_[i], mesh_.origin[cue], mesh_.h, mesh_.n);
-        for (int c = 0; c < 8; ++c) q[d.index[c]] += d.weight[c];
-      }
-    });
-  }
-
-  // The moving average of field step `step` (1-based, warm-up included).
-  void fold(std::uint32_t step) {
-    const core::EstimateFold f = core::estimate_fold(step, estimate_params_.beta, estimate_params_.scale);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, estimate_.size(), 16384),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                          estimate_[i] = core::fold_node(estimate_[i], deposit_[i], f);
-                          deposit_[i] = 0;
-                        }
-                      });
   }
 
   // Each cue emits floor(step Q) - floor((step-1) Q) particles at its position; ids are
@@ -172,19 +134,6 @@ class ParticleField final : public CueField {
     }
   }
 
-  void move(std::uint32_t step) {
-    keep_.resize(pos_.size());
-    core::Vec3 unused{0, 0, 0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pos_.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                          core::Vec3 v = ballistic_ ? vel_[i] : unused;
-                          keep_[i] = core::particle_step(seed_, id_[i], step, pos_[i], v, cues_[source_[i]], params_);
-                          if (ballistic_) vel_[i] = v;
-                        }
-                      });
-  }
-
   void compact() {
     StableCompaction c;
     if (c.plan(keep_) == pos_.size()) return;
@@ -194,34 +143,13 @@ class ParticleField final : public CueField {
     if (ballistic_) c.apply(vel_, vel_scratch_);
   }
 
-  // Hash, stable sort by bucket, bucket starts, sorted copies for the gathers.
-  void build_grid() {
-    const std::size_t n = pos_.size();
-    const core::HashGridView geometry{geometry_.origin, geometry_.cell, geometry_.dim, nullptr, nullptr, nullptr, nullptr};
-    keys_.resize(n);
-    index_.resize(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      keys_[i] = core::hash_of(pos_[i], geometry);
-      index_[i] = static_cast<std::uint32_t>(i);
-    });
-    const auto buckets = static_cast<std::uint32_t>(geometry_.buckets());
-    stable_sort_by_key(keys_, index_, buckets - 1, sort_scratch_);
-    cell_starts(keys_, buckets, cell_start_);
-    sorted_pos_.resize(n);
-    sorted_source_.resize(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
-      sorted_pos_[k] = pos_[index_[k]];
-      sorted_source_[k] = source_[index_[k]];
-    });
-  }
-
   // Jacobi: every particle reads the sorted positions and writes its own new position.
   void collide() {
-    const core::HashGridView g = view();
+    const core::HashGridView g = grid_.view(geometry_);
     tbb::parallel_for(std::size_t{0}, pos_.size(), [&](std::size_t k) {
-      const std::uint32_t i = index_[k];
-      const core::Vec3 push = core::collision_push(i, sorted_pos_[k], g, params_);
-      pos_[i] = sorted_pos_[k] + push;
+      const std::uint32_t i = grid_.index[k];
+      const core::Vec3 push = core::collision_push(i, grid_.sorted_pos[k], g, params_);
+      pos_[i] = grid_.sorted_pos[k] + push;
       if (ballistic_) vel_[i] = vel_[i] + push / params_.dt;
     });
   }
@@ -246,11 +174,7 @@ class ParticleField final : public CueField {
   std::vector<core::Vec3> pos_scratch_, vel_scratch_;
   std::vector<std::uint64_t> id_scratch_;
   std::vector<std::uint16_t> source_scratch_;
-  SortScratch sort_scratch_;
-  // Grid.
-  std::vector<std::uint32_t> keys_, index_, cell_start_;
-  std::vector<core::Vec3> sorted_pos_;
-  std::vector<std::uint16_t> sorted_source_;
+  ParticleHashGrid grid_;
   // Estimate: 2 K meshes (cue-major, even half first) of averages and of this step's deposits.
   std::vector<double> estimate_;
   std::vector<std::uint64_t> deposit_;

@@ -83,6 +83,14 @@ RC_GTEST_PROP(graph, ComponentsEqualBoostsPartitionLabelledByLowestId, ()) {
   for (std::size_t v = 0; v < e.n; ++v) RC_ASSERT(comp[v] == lowest[bc[v]]);
 }
 
+// The run's components (union-find over the directed edges, no undirected CSR) are the
+// undirected graph's, label for label.
+RC_GTEST_PROP(graph, EdgeComponentsAreTheUndirectedGraphs, ()) {
+  const Edges e = *gen_graph();
+  const Csr g = csr_from_edges(e.n, e.src, e.dst);
+  RC_ASSERT(edge_components(g) == components(undirected(g)));
+}
+
 TEST(graph, LargeFrontierTakesTheParallelPathAndAgrees) {
   // A star: one source with 50000 children, each with one child -> frontier of 50000.
   const std::uint32_t k = 50000;

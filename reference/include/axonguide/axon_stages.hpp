@@ -42,6 +42,25 @@ struct SignallingFailure {
   core::StiffStatus status = core::StiffStatus::kOk;
 };
 
+// The slots a stage visits, in slot order: a list, or (list null) every slot below count.
+// A run without cue fields starts with every slot and builds its list once seven in eight
+// have stopped, so that a large network never holds a list of all its axons.
+struct Slots {
+  const std::uint32_t* list = nullptr;
+  std::size_t count = 0;
+  Slots(const std::vector<std::uint32_t>& v) : list(v.data()), count(v.size()) {}  // NOLINT: a list is a Slots
+  static Slots all(std::size_t n) {
+    Slots s;
+    s.count = n;
+    return s;
+  }
+  std::uint32_t operator[](std::size_t s) const { return list ? list[s] : static_cast<std::uint32_t>(s); }
+  std::size_t size() const { return count; }
+
+ private:
+  Slots() = default;
+};
+
 struct GrowthCounts {
   std::uint64_t connected = 0, exited = 0;
 };
@@ -75,10 +94,10 @@ class AxonStages {
   bool signalling() const { return signalling_; }
   // Whether axons carry their own step length (modulation or signalling).
   bool own_step_lengths() const { return modulated_ || signalling_; }
-  // Stages 3-5: every listed axon moves, tests contact against `somas` and the bounds, and
-  // its heading takes the random walk of the next step. Returns how many connected and
-  // exited (integer sums: exact in any order).
-  GrowthCounts grow(const core::CellGridView& somas, const std::vector<std::uint32_t>& slots, AxonArrays a,
+  // Stages 3-5: every listed axon still growing moves, tests contact against `somas` and
+  // the bounds, and its heading takes the random walk of the next step. Returns how many
+  // connected and exited (integer sums: exact in any order).
+  GrowthCounts grow(const core::CellGridView& somas, Slots slots, AxonArrays a,
                     std::uint32_t step) const;
 
   const core::GrowthParams& params() const { return params_; }

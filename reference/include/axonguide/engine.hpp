@@ -47,6 +47,10 @@ class Engine {
   }
   // Final per-neuron state; axons still growing are reported as max_steps.
   virtual void finish(NeuronState& out) = 0;
+  // The somas in id order, from an engine that took the placement's (the reference
+  // engine built by make_reference_engine(scene, Placement&&)): a copy before finish(),
+  // the engine's own after it. The run calls it only for such an engine.
+  virtual void somas(std::vector<core::Vec3>& out) { out.clear(); }
   // Bytes of memory this engine holds (host or device), for the summary.
   virtual std::size_t bytes() const = 0;
   // A line about the cue field for the summary and the manifest (may be empty).
@@ -64,6 +68,10 @@ class Engine {
 // Bytes per neuron the reference engine needs (for memory estimates before allocation).
 std::size_t reference_bytes_per_neuron();
 
+// The reference engine. Given the placement to keep, it takes the arrays (the placement is
+// left empty) and holds one copy of the somas, which somas() gives back; given a const
+// placement, it copies it first.
+std::unique_ptr<Engine> make_reference_engine(const Scene& scene, Placement&& placement);
 std::unique_ptr<Engine> make_reference_engine(const Scene& scene, const Placement& placement);
 
 }  // namespace axg

@@ -51,5 +51,8 @@ Csr random_digraph(std::size_t vertices, std::size_t edges, std::uint64_t seed, 
 
 // Component label of every vertex of the undirected graph: its lowest vertex id.
 std::vector<std::uint32_t> components(const Csr& undirected_graph);
+// The same labels from a directed graph's edges taken both ways, by union-find (no
+// undirected copy: one array of labels is all it holds).
+std::vector<std::uint32_t> edge_components(const Csr& g);
 
 }  // namespace axg

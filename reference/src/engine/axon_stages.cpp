@@ -127,13 +127,14 @@ void AxonStages::start_signals(const CueField& field, const std::vector<core::Ve
   });
 }
 
-GrowthCounts AxonStages::grow(const core::CellGridView& somas, const std::vector<std::uint32_t>& slots, AxonArrays a,
+GrowthCounts AxonStages::grow(const core::CellGridView& somas, Slots slots, AxonArrays a,
                               std::uint32_t step) const {
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, slots.size()), GrowthCounts{},
       [&](const tbb::blocked_range<std::size_t>& r, GrowthCounts acc) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
           const std::uint32_t k = slots[s];
+          if (a.status[k] != core::AxonStatus::kGrowing) continue;  // every slot, not a list
           const std::uint32_t id = a.id[k];
           const bool own = modulated_ || signalling_;
           const double l = own ? a.step_length[k] : params_.step_length;

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "axonguide/axon_stages.hpp"
 #include "axonguide/cell_grid.hpp"
@@ -36,25 +37,33 @@ void scatter(const std::vector<std::uint32_t>& ids, std::vector<T>& in, std::vec
 // only memory traffic: every axon computes the same pure function of its own state.
 class ReferenceEngine final : public Engine {
  public:
-  ReferenceEngine(const Scene& scene, const Placement& placement)
+  // Takes the placement's arrays: the somas become the soma grid's sorted copy and the
+  // headings the slot-ordered ones, each released as soon as it is copied, so that a large
+  // network holds one copy of each (the run's memory peak; docs/scaling.md §5). somas()
+  // gives the id-ordered somas back.
+  ReferenceEngine(const Scene& scene, Placement&& placement)
       : scene_(scene),
         stages_(scene),
         modulated_(stages_.own_step_lengths()),
         field_(make_reference_field(scene, stages_.cues())) {
-    somas_ = build_cell_grid(soma_grid_geometry(scene), placement.soma);
     const std::size_t n = placement.soma.size();
-    state_.resize(n);
+    if (stages_.signalling()) soma_ = placement.soma;
+    somas_ = build_cell_grid(soma_grid_geometry(scene), placement.soma);
+    release(placement.soma);
     heading_.resize(n);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
-      const std::uint32_t i = somas_.ids[k];
-      heading_[k] = placement.heading[i];
-      state_.tip[k] = axon_start(placement.soma[i], placement.heading[i], scene);
-    });
-    active_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) { heading_[k] = placement.heading[somas_.ids[k]]; });
+    release(placement.heading);
+    state_.resize(n);
+    tbb::parallel_for(std::size_t{0}, n,
+                      [&](std::size_t k) { state_.tip[k] = axon_start(somas_.pos[k], heading_[k], scene); });
+    // Without cue fields no stage needs the list until seven in eight axons have stopped.
+    every_slot_ = !field_;
+    if (!every_slot_) {
+      active_.resize(n);
+      for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
+    }
     if (modulated_) step_length_.assign(n, stages_.params().step_length);
     if (stages_.signalling()) {
-      soma_ = placement.soma;
       signal_.assign(n * core::kSignalSpecies, 0.0);
       receptors_.assign(n, 0.0);
       inhibition_.assign(n, 0.0);
@@ -124,6 +133,7 @@ class ReferenceEngine final : public Engine {
       stages_.inhibition_from(receptors_.data(), inhibition_.data(), receptors_.size());
     }
     active_.clear();
+    every_slot_ = false;
     for (std::size_t k = 0; k < ids.size(); ++k)
       if (state_.status[k] == AxonStatus::kGrowing) active_.push_back(static_cast<std::uint32_t>(k));
     stats_.connected = in.connected;
@@ -146,7 +156,7 @@ class ReferenceEngine final : public Engine {
     }
     {
       ScopedPhase p(times, step, "grow");
-      const GrowthCounts c = stages_.grow(somas_.view(), active_, arrays(), step);
+      const GrowthCounts c = stages_.grow(somas_.view(), slots(), arrays(), step);
       stats_.connected += c.connected;
       stats_.exited += c.exited;
     }
@@ -155,7 +165,7 @@ class ReferenceEngine final : public Engine {
       compact_active();
     }
     stats_.step = step;
-    stats_.growing = active_.size();
+    stats_.growing = growing_;
     stats_.particles = field_ ? field_->particles() : 0;
     return stats_;
   }
@@ -170,9 +180,15 @@ class ReferenceEngine final : public Engine {
   }
 
   // Scatters slot order back to id order one array at a time, releasing each engine
-  // array as soon as it is copied (this is the run's memory peak).
+  // array as soon as it is copied (this is the run's memory peak); the somas first.
   void finish(NeuronState& out) override {
-    for (std::uint32_t k : active_) state_.status[k] = AxonStatus::kMaxSteps;
+    if (every_slot_) {
+      tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t k) {
+        if (state_.status[k] == AxonStatus::kGrowing) state_.status[k] = AxonStatus::kMaxSteps;
+      });
+    } else {
+      for (std::uint32_t k : active_) state_.status[k] = AxonStatus::kMaxSteps;
+    }
     release(active_);
     release(heading_);
     release(step_length_);
@@ -181,11 +197,24 @@ class ReferenceEngine final : public Engine {
     release(inhibition_);
     release(soma_);
     const std::vector<std::uint32_t>& ids = somas_.ids;
+    release(somas_.cell_start);
+    scatter(ids, somas_.pos, finished_soma_);
     scatter(ids, state_.tip, out.tip);
     scatter(ids, state_.length, out.length);
     scatter(ids, state_.status, out.status);
     scatter(ids, state_.steps, out.steps);
     scatter(ids, state_.target, out.target);
+    finished_ = true;
+  }
+
+  // The somas by id: a copy while the engine runs (checkpoints), its own after finish().
+  void somas(std::vector<core::Vec3>& out) override {
+    if (finished_) {
+      out = std::move(finished_soma_);
+      return;
+    }
+    out.resize(somas_.pos.size());
+    tbb::parallel_for(std::size_t{0}, out.size(), [&](std::size_t k) { out[somas_.ids[k]] = somas_.pos[k]; });
   }
 
   std::string note() const override { return field_ ? field_->note() : std::string(); }
@@ -204,11 +233,31 @@ class ReferenceEngine final : public Engine {
             inhibition_.empty() ? nullptr : inhibition_.data()};
   }
 
-  // Keeps the growing axons, in slot order.
+  Slots slots() const { return every_slot_ ? Slots::all(state_.size()) : Slots(active_); }
+
+  // Keeps the growing axons, in slot order; in every-slot mode, counts them and builds the
+  // list once at most one in eight is left (the scan of every slot's status costs less
+  // than the list's memory at the run's peak).
   void compact_active() {
+    if (every_slot_) {
+      growing_ = tbb::parallel_reduce(
+          tbb::blocked_range<std::size_t>(0, state_.size()), std::size_t{0},
+          [&](const tbb::blocked_range<std::size_t>& r, std::size_t c) {
+            for (std::size_t k = r.begin(); k != r.end(); ++k) c += state_.status[k] == AxonStatus::kGrowing;
+            return c;
+          },
+          [](std::size_t x, std::size_t y) { return x + y; });
+      if (8 * growing_ > state_.size()) return;
+      every_slot_ = false;
+      active_.reserve(growing_);
+      for (std::size_t k = 0; k < state_.size(); ++k)
+        if (state_.status[k] == AxonStatus::kGrowing) active_.push_back(static_cast<std::uint32_t>(k));
+      return;
+    }
     active_.erase(std::remove_if(active_.begin(), active_.end(),
                                  [&](std::uint32_t k) { return state_.status[k] != AxonStatus::kGrowing; }),
                   active_.end());
+    growing_ = active_.size();
   }
 
   const Scene& scene_;
@@ -223,7 +272,11 @@ class ReferenceEngine final : public Engine {
   // inhibitory signal the networks read (by id).
   std::vector<double> signal_, receptors_, inhibition_;
   std::vector<core::Vec3> soma_;
-  std::vector<std::uint32_t> active_;
+  std::vector<std::uint32_t> active_;  // the growing slots, unless every_slot_
+  bool every_slot_ = false;
+  std::size_t growing_ = 0;
+  std::vector<core::Vec3> finished_soma_;  // by id, from finish() until somas()
+  bool finished_ = false;
   StepStats stats_;
 };
 
@@ -235,8 +288,12 @@ std::size_t reference_bytes_per_neuron() {
   return sizeof(core::Vec3) * 2 + 8 + 1 + 4 + 4 + 4 + 4 + sizeof(core::Vec3) + 4;
 }
 
+std::unique_ptr<Engine> make_reference_engine(const Scene& scene, Placement&& placement) {
+  return std::make_unique<ReferenceEngine>(scene, std::move(placement));
+}
+
 std::unique_ptr<Engine> make_reference_engine(const Scene& scene, const Placement& placement) {
-  return std::make_unique<ReferenceEngine>(scene, placement);
+  return make_reference_engine(scene, Placement(placement));
 }
 
 }  // namespace axg

@@ -47,19 +47,25 @@ std::uint64_t estimate_run_bytes(const Scene& scene) {
 GraphAnalysis analyze_graph(const Scene& scene, const NeuronState& neurons) {
   GraphAnalysis a;
   const std::size_t n = neurons.size();
-  std::vector<std::uint32_t> src, dst;
-  for (std::size_t i = 0; i < n; ++i)
-    if (neurons.target[i] != core::kNoNeuron) {
-      src.push_back(static_cast<std::uint32_t>(i));
-      dst.push_back(neurons.target[i]);
-    }
-  a.out = csr_from_edges(n, src, dst);
+  {  // the edge lists at their size, released before the analysis
+    const std::size_t edges = static_cast<std::size_t>(
+        std::count_if(neurons.target.begin(), neurons.target.end(), [](std::uint32_t t) { return t != core::kNoNeuron; }));
+    std::vector<std::uint32_t> src, dst;
+    src.reserve(edges);
+    dst.reserve(edges);
+    for (std::size_t i = 0; i < n; ++i)
+      if (neurons.target[i] != core::kNoNeuron) {
+        src.push_back(static_cast<std::uint32_t>(i));
+        dst.push_back(neurons.target[i]);
+      }
+    a.out = csr_from_edges(n, src, dst);
+  }
   if (!scene.analysis.bfs_sources.empty()) {
     std::vector<std::uint32_t> sources(scene.analysis.bfs_sources.begin(), scene.analysis.bfs_sources.end());
     a.bfs = bfs(a.out, transpose(a.out), sources);
   }
   if (scene.analysis.components) {
-    a.component = components(undirected(a.out));
+    a.component = edge_components(a.out);
     summarize_components(a);
   }
   return a;
@@ -91,7 +97,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   Placement placement;
   if (resume) {
     r = std::move(resume->progress);  // somas, stats, paths, frames and timings so far
-    placement.soma = r.soma;
+    placement.soma = std::move(r.soma);
     placement.heading = resume->engine.heading;
   } else {
     ScopedPhase p(r.times, 0, "placement");
@@ -101,10 +107,14 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   r.scene = scene;
   if (!resume) r.placement_redraws = placement.redraws;
   std::unique_ptr<Engine> engine;
+  // The reference engine takes the placement's arrays and keeps the only copy of the
+  // somas until finish() (a large network's memory peak is the engine's construction);
+  // r.soma holds them only for a checkpoint and from readback on.
+  const bool engine_has_somas = !options.make_engine;
   {
     ScopedPhase p(r.times, 0, resume ? "resume" : "setup");
     engine = options.make_engine ? options.make_engine(scene, placement)
-                                 : make_reference_engine(scene, placement);
+                                 : make_reference_engine(scene, std::move(placement));
     if (resume) {
       engine->load(resume->engine);
       resume->engine = EngineState{};
@@ -112,7 +122,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
       engine->warm_up();
     }
   }
-  r.soma = std::move(placement.soma);
+  if (!engine_has_somas) r.soma = std::move(placement.soma);
   placement = Placement{};
 
   r.cues = make_cues(scene);
@@ -157,7 +167,9 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
         EngineState state;
         engine->save(state);
         r.steps_run = step;
+        if (engine_has_somas) engine->somas(r.soma);
         options.on_checkpoint(r, step, state);
+        if (engine_has_somas) std::vector<core::Vec3>().swap(r.soma);
         last_checkpoint = clock::now();
       }
     }
@@ -195,6 +207,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   {
     ScopedPhase p(r.times, 0, "readback");
     engine->finish(r.neurons);
+    if (engine_has_somas) engine->somas(r.soma);
   }
   {
     ScopedPhase p(r.times, 0, "graph");

@@ -208,4 +208,27 @@ std::vector<std::uint32_t> components(const Csr& u) {
   return comp;
 }
 
+// Union by lowest root: every parent link points to a lower id (path halving keeps that),
+// so a root is its set's lowest id and one ascending pass resolves every label.
+std::vector<std::uint32_t> edge_components(const Csr& g) {
+  const std::size_t n = g.vertices();
+  std::vector<std::uint32_t> parent(n);
+  for (std::size_t v = 0; v < n; ++v) parent[v] = static_cast<std::uint32_t>(v);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  };
+  for (std::size_t u = 0; u < n; ++u)
+    for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
+      const std::uint32_t a = find(static_cast<std::uint32_t>(u)), b = find(g.targets[k]);
+      if (a < b) parent[b] = a;
+      else if (b < a) parent[a] = b;
+    }
+  for (std::size_t v = 0; v < n; ++v) parent[v] = parent[parent[v]];
+  return parent;
+}
+
 }  // namespace axg

@@ -18,6 +18,7 @@
 
 #include "axonguide/core/random.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/overlap_index.hpp"
 #include "axonguide/placement.hpp"
 #include "axonguide/sampler_nd.hpp"
 #include "axonguide/scene.hpp"
@@ -218,6 +219,41 @@ RC_GTEST_PROP(placement, BlockedOverlapPassIsRandomSequentialAddition, ()) {
     RC_ASSERT(bits_of(got->soma[i].x) == bits_of(expected.soma[i].x) &&
               bits_of(got->soma[i].y) == bits_of(expected.soma[i].y) &&
               bits_of(got->soma[i].z) == bits_of(expected.soma[i].z));
+}
+
+// The batched query answers what one query at a time answers, for any batch size, chains of
+// any length (a small table over many points) and points at exactly the overlap distance
+// (which do not overlap: the test is strict).
+RC_GTEST_PROP(placement, OverlapBatchAnswersAsSingleQueries, ()) {
+  const double min_dist = *rc::gen::element(0.5, 1.0, 2.0);
+  const std::size_t n = *rc::gen::inRange<std::size_t>(0, 400);
+  const std::size_t expected = *rc::gen::element<std::size_t>(1, 16, 1024);
+  const std::uint32_t base = *rc::gen::element<std::uint32_t>(0, 5000);
+  const auto coord = [] { return static_cast<double>(*rc::gen::inRange(-4000, 4000)) / 997.0; };
+  std::vector<core::Vec3> pos(base + n);
+  OverlapIndex index(n, min_dist, expected);
+  index.clear(base);
+  for (std::size_t i = 0; i < n; ++i) {
+    pos[base + i] = {coord(), coord(), coord()};
+    index.insert(static_cast<std::uint32_t>(base + i), pos[base + i]);
+  }
+  const std::size_t count = *rc::gen::inRange<std::size_t>(1, OverlapIndex::kBatch + 1);
+  std::vector<core::Vec3> p(count);
+  for (core::Vec3& q : p) {
+    q = {coord(), coord(), coord()};
+    if (n == 0 || !*rc::gen::arbitrary<bool>()) continue;
+    // Near an indexed point, in any of the 26 directions: just inside the distance, or at
+    // exactly it along an axis.
+    const core::Vec3 at = pos[base + *rc::gen::inRange<std::size_t>(0, n)];
+    const double sx = *rc::gen::inRange(-1, 2), sy = *rc::gen::inRange(-1, 2), sz = *rc::gen::inRange(-1, 2);
+    const double axes = std::abs(sx) + std::abs(sy) + std::abs(sz);
+    if (axes == 0.0) continue;
+    const double d = axes == 1.0 && *rc::gen::arbitrary<bool>() ? min_dist : 0.999 * min_dist / std::sqrt(axes);
+    q = at + core::Vec3{sx * d, sy * d, sz * d};
+  }
+  bool hit[OverlapIndex::kBatch];
+  index.overlaps_batch(pos, p.data(), count, min_dist * min_dist, hit);
+  for (std::size_t q = 0; q < count; ++q) RC_ASSERT(hit[q] == index.overlaps(pos, p[q], min_dist * min_dist));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/random.hpp"
@@ -135,11 +136,32 @@ Placement place_neurons(const Scene& scene) {
   std::vector<std::uint32_t> attempts(kBlock);
   for (std::size_t a = 0; a < n; a += kBlock) {
     const std::size_t b = std::min(n, a + kBlock);
-    tbb::parallel_for(a, b, [&](std::size_t i) {
-      std::uint32_t attempt = 0;
-      while (attempt < nn.max_attempts && index.overlaps(out.soma, out.soma[i], min_dist2))
-        if (++attempt < nn.max_attempts) out.soma[i] = soma_draw(scene, i, attempt);
-      attempts[i - a] = attempt;  // max_attempts: none cleared the earlier blocks
+    // Each soma of the block draws until an attempt clears the earlier blocks (max_attempts:
+    // none did). The queries go to the index kBatch at a time, a finished soma's place in
+    // the batch taken by the next id, so that their cache misses overlap.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(a, b, OverlapIndex::kBatch), [&](const auto& range) {
+      constexpr std::size_t kBatch = OverlapIndex::kBatch;
+      std::size_t ids[kBatch];
+      std::uint32_t tries[kBatch];
+      core::Vec3 at[kBatch];
+      bool hit[kBatch];
+      std::size_t next = range.begin(), m = 0;
+      for (;;) {
+        for (; m < kBatch && next < range.end(); ++next) ids[m] = next, tries[m] = 0, at[m] = out.soma[next], ++m;
+        if (m == 0) break;
+        index.overlaps_batch(out.soma, at, m, min_dist2, hit);
+        std::size_t kept = 0;
+        for (std::size_t q = 0; q < m; ++q) {
+          const std::size_t i = ids[q];
+          if (hit[q] && ++tries[q] < nn.max_attempts) {
+            out.soma[i] = soma_draw(scene, i, tries[q]);
+            ids[kept] = i, tries[kept] = tries[q], at[kept] = out.soma[i], ++kept;
+          } else {
+            attempts[i - a] = tries[q];
+          }
+        }
+        m = kept;
+      }
     });
     local.clear(static_cast<std::uint32_t>(a));
     for (std::size_t i = a; i < b; ++i) {
@@ -153,7 +175,11 @@ Placement place_neurons(const Scene& scene) {
       out.redraws += attempt;
       local.insert(static_cast<std::uint32_t>(i), out.soma[i]);
     }
-    for (std::size_t i = a; i < b; ++i) index.insert(static_cast<std::uint32_t>(i), out.soma[i]);
+    constexpr std::size_t kAhead = 8;  // inserts whose bucket is prefetched ahead of the one written
+    for (std::size_t i = a; i < b; ++i) {
+      if (i + kAhead < b) index.prefetch_insert(out.soma[i + kAhead]);
+      index.insert(static_cast<std::uint32_t>(i), out.soma[i]);
+    }
   }
   return radial_headings(scene, out);
 }

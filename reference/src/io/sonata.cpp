@@ -13,6 +13,7 @@
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
@@ -138,19 +139,36 @@ Handle group(hid_t parent, const char* name) {
   return Handle(H5Gcreate2(parent, name, H5P_DEFAULT, gcpl, H5P_DEFAULT), H5Gclose, "H5Gcreate2");
 }
 
-// A contiguous dataset of `dims` elements from `data` (row-major), never pre-filled.
-Handle dataset(hid_t parent, const char* name, hid_t file_type, hid_t mem_type, const void* data,
-               std::initializer_list<hsize_t> dims) {
+// A contiguous dataset of `dims` elements, never pre-filled, not yet written.
+Handle empty_dataset(hid_t parent, const char* name, hid_t file_type, std::initializer_list<hsize_t> dims) {
   const std::vector<hsize_t> d(dims);
   Handle space(H5Screate_simple(static_cast<int>(d.size()), d.data(), nullptr), H5Sclose, "H5Screate_simple");
   Handle dcpl = property_list(H5P_DATASET_CREATE);
   ok(H5Pset_obj_track_times(dcpl, 0), "H5Pset_obj_track_times");
   ok(H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER), "H5Pset_fill_time");
-  Handle set(H5Dcreate2(parent, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose, "H5Dcreate2");
+  return Handle(H5Dcreate2(parent, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose, "H5Dcreate2");
+}
+
+// A contiguous dataset of `dims` elements from `data` (row-major), never pre-filled.
+Handle dataset(hid_t parent, const char* name, hid_t file_type, hid_t mem_type, const void* data,
+               std::initializer_list<hsize_t> dims) {
+  Handle set = empty_dataset(parent, name, file_type, dims);
   hsize_t total = 1;
-  for (hsize_t x : d) total *= x;
+  for (hsize_t x : dims) total *= x;
   if (total > 0) ok(H5Dwrite(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "H5Dwrite");
   return set;
+}
+
+// Rows [row, row + rows) of a 2-D dataset of `cols` columns, from `data` (row-major): a
+// dataset too large to hold beside the run is written a slab at a time. The file's bytes
+// are those of one write (contiguous storage, allocated whole at the first write).
+void write_rows(hid_t set, hid_t mem_type, hsize_t row, hsize_t rows, hsize_t cols, const void* data) {
+  if (rows == 0) return;
+  Handle file_space(H5Dget_space(set), H5Sclose, "H5Dget_space");
+  const hsize_t start[2] = {row, 0}, count[2] = {rows, cols};
+  ok(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr), "H5Sselect_hyperslab");
+  Handle mem_space(H5Screate_simple(2, count, nullptr), H5Sclose, "H5Screate_simple");
+  ok(H5Dwrite(set, mem_type, mem_space, file_space, H5P_DEFAULT, data), "H5Dwrite");
 }
 
 template <class T>
@@ -282,17 +300,23 @@ void edge_index(hid_t indices, const char* name, const std::vector<std::uint32_t
   std::vector<std::uint64_t> first(nodes + 1, 0);  // first row of node v's runs
   for (std::size_t e = 0; e < m; ++e)
     if (starts_run(e)) ++first[node_of_edge[e] + 1];
-  Ranges node_ranges(nodes);
-  for (std::size_t v = 0; v < nodes; ++v) {
-    first[v + 1] += first[v];
-    node_ranges[v] = {first[v], first[v + 1]};
+  for (std::size_t v = 0; v < nodes; ++v) first[v + 1] += first[v];
+  Handle g = group(indices, name);
+  {
+    // node_id_to_ranges[v] = {first[v], first[v + 1]}: 16 B a node, written a slab at a time.
+    Handle set = empty_dataset(g, "node_id_to_ranges", H5T_STD_U64LE, {nodes, 2});
+    constexpr std::size_t kSlab = std::size_t{1} << 16;
+    Ranges slab(std::min(nodes, kSlab));
+    for (std::size_t v0 = 0; v0 < nodes; v0 += kSlab) {
+      const std::size_t rows = std::min(kSlab, nodes - v0);
+      for (std::size_t k = 0; k < rows; ++k) slab[k] = {first[v0 + k], first[v0 + k + 1]};
+      write_rows(set, H5T_NATIVE_UINT64, v0, rows, 2, slab.data());
+    }
   }
   Ranges range_to_edge(first[nodes]);
   for (std::size_t e = 0; e < m; ++e)
     if (starts_run(e)) range_to_edge[first[node_of_edge[e]]++] = {e, e + 1};
     else range_to_edge[first[node_of_edge[e]] - 1][1] = e + 1;
-  Handle g = group(indices, name);
-  dataset(g, "node_id_to_ranges", H5T_STD_U64LE, H5T_NATIVE_UINT64, node_ranges.data(), {node_ranges.size(), 2});
   dataset(g, "range_to_edge_id", H5T_STD_U64LE, H5T_NATIVE_UINT64, range_to_edge.data(), {range_to_edge.size(), 2});
 }
 
@@ -301,6 +325,10 @@ void write_edges(const RunResult& r, const fs::path& dir) {
   const double um = r.scene.units.micrometres();
   const double speed = r.scene.output.conduction_m_per_s();  // m/s = mm/ms = 1000 µm/ms
   std::vector<std::uint32_t> source, target;
+  const std::size_t edges_count = static_cast<std::size_t>(
+      std::count_if(nr.target.begin(), nr.target.end(), [](std::uint32_t t) { return t != core::kNoNeuron; }));
+  source.reserve(edges_count);
+  target.reserve(edges_count);
   for (std::size_t i = 0; i < nr.size(); ++i)
     if (nr.target[i] != core::kNoNeuron) {
       source.push_back(static_cast<std::uint32_t>(i));
@@ -327,13 +355,13 @@ void write_edges(const RunResult& r, const fs::path& dir) {
     for (std::size_t e = 0; e < m; ++e) step[e] = nr.steps[source[e]];
     column(g0, "step", step);
   }
-  std::vector<double> length(m), delay(m);
-  for (std::size_t e = 0; e < m; ++e) {
-    length[e] = canonical(nr.length[source[e]] * um);
-    delay[e] = canonical(length[e] / (speed * 1000.0));
-  }
-  column(g0, "length", length, "um");
   {
+    std::vector<double> length(m), delay(m);  // freed before the indices are built
+    for (std::size_t e = 0; e < m; ++e) {
+      length[e] = canonical(nr.length[source[e]] * um);
+      delay[e] = canonical(length[e] / (speed * 1000.0));
+    }
+    column(g0, "length", length, "um");
     Handle set = column(g0, "delay", delay, "ms");
     scalar_attribute(set, "conduction_speed", &speed, 1);
     string_attribute(set, "conduction_speed_units", "m/s");

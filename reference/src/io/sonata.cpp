@@ -162,14 +162,39 @@ Handle dataset(hid_t parent, const char* name, hid_t file_type, hid_t mem_type, 
 // Rows [row, row + rows) of a 2-D dataset of `cols` columns, from `data` (row-major): a
 // dataset too large to hold beside the run is written a slab at a time. The file's bytes
 // are those of one write (contiguous storage, allocated whole at the first write).
+// cols = 0: a 1-D dataset.
 void write_rows(hid_t set, hid_t mem_type, hsize_t row, hsize_t rows, hsize_t cols, const void* data) {
   if (rows == 0) return;
   Handle file_space(H5Dget_space(set), H5Sclose, "H5Dget_space");
+  const int rank = cols ? 2 : 1;
   const hsize_t start[2] = {row, 0}, count[2] = {rows, cols};
   ok(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr), "H5Sselect_hyperslab");
-  Handle mem_space(H5Screate_simple(2, count, nullptr), H5Sclose, "H5Screate_simple");
+  Handle mem_space(H5Screate_simple(rank, count, nullptr), H5Sclose, "H5Screate_simple");
   ok(H5Dwrite(set, mem_type, mem_space, file_space, H5P_DEFAULT, data), "H5Dwrite");
 }
+
+// Rows a dataset too large to hold beside the run is written in (the writer holds one).
+constexpr std::size_t kSlab = std::size_t{1} << 16;
+
+// A column of `count` elements written a slab at a time, never held whole: fill(begin, out,
+// size) writes elements [begin, begin + size) to out, called for ascending begins.
+template <class T, class Fill>
+Handle streamed_column(hid_t parent, const char* name, std::size_t count, Fill&& fill, const char* units = nullptr) {
+  Handle set = empty_dataset(parent, name, H5Of<T>::file(), {count});
+  std::vector<T> slab(std::min(count, kSlab));
+  for (std::size_t begin = 0; begin < count; begin += kSlab) {
+    const std::size_t size = std::min(kSlab, count - begin);
+    fill(begin, slab.data(), size);
+    write_rows(set, H5Of<T>::mem(), begin, size, 0, slab.data());
+  }
+  if (units) string_attribute(set, "units", units);
+  return set;
+}
+
+void fill_iota(std::size_t begin, std::uint64_t* out, std::size_t size) {
+  std::iota(out, out + size, std::uint64_t{begin});
+}
+void fill_zeros(std::size_t, std::uint32_t* out, std::size_t size) { std::fill(out, out + size, 0u); }
 
 template <class T>
 Handle column(hid_t parent, const char* name, const std::vector<T>& values, const char* units = nullptr) {
@@ -239,45 +264,42 @@ class H5Output {
   }
 };
 
-std::vector<std::uint64_t> iota64(std::size_t n) {
-  std::vector<std::uint64_t> v(n);
-  std::iota(v.begin(), v.end(), std::uint64_t{0});
-  return v;
-}
 
+// Every column the writer computes is written a slab at a time (streamed_column), so that
+// the writer holds about a slab beside the run's result, not a column.
 void write_nodes(const RunResult& r, const fs::path& dir) {
   const std::size_t n = r.neurons.size();
   const double um = r.scene.units.micrometres();
   H5Output f(dir, "nodes.h5");
   Handle nodes = group(f, "nodes");
   Handle pop = group(nodes, kNodePopulation);
-  {
-    const std::vector<std::uint64_t> ids = iota64(n);
-    column(pop, "node_id", ids);
-    column(pop, "node_group_index", ids);
-    const std::vector<std::uint32_t> zeros(n, 0);
-    column(pop, "node_type_id", zeros);
-    column(pop, "node_group_id", zeros);
-  }
+  streamed_column<std::uint64_t>(pop, "node_id", n, fill_iota);
+  streamed_column<std::uint64_t>(pop, "node_group_index", n, fill_iota);
+  streamed_column<std::uint32_t>(pop, "node_type_id", n, fill_zeros);
+  streamed_column<std::uint32_t>(pop, "node_group_id", n, fill_zeros);
   Handle g0 = group(pop, "0");
-  {
-    std::vector<double> v(n);
-    constexpr double core::Vec3::*kAxes[] = {&core::Vec3::x, &core::Vec3::y, &core::Vec3::z};
-    constexpr const char* kNames[] = {"x", "y", "z"};
-    for (int a = 0; a < 3; ++a) {
-      for (std::size_t i = 0; i < n; ++i) v[i] = canonical(r.soma[i].*kAxes[a] * um);
-      column(g0, kNames[a], v, "um");
-    }
-    v.assign(n, canonical(r.scene.neurons.soma_radius * um));
-    column(g0, "soma_radius", v, "um");
-    for (std::size_t i = 0; i < n; ++i) v[i] = canonical(r.neurons.length[i] * um);
-    column(g0, "axon_length", v, "um");
-  }
-  {
-    std::vector<std::uint8_t> status(n);
-    for (std::size_t i = 0; i < n; ++i) status[i] = static_cast<std::uint8_t>(r.neurons.status[i]);
-    column(g0, "status", status);
-  }
+  constexpr double core::Vec3::*kAxes[] = {&core::Vec3::x, &core::Vec3::y, &core::Vec3::z};
+  constexpr const char* kNames[] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a)
+    streamed_column<double>(
+        g0, kNames[a], n,
+        [&](std::size_t begin, double* out, std::size_t size) {
+          for (std::size_t k = 0; k < size; ++k) out[k] = canonical(r.soma[begin + k].*kAxes[a] * um);
+        },
+        "um");
+  const double soma_radius = canonical(r.scene.neurons.soma_radius * um);
+  streamed_column<double>(
+      g0, "soma_radius", n, [&](std::size_t, double* out, std::size_t size) { std::fill(out, out + size, soma_radius); },
+      "um");
+  streamed_column<double>(
+      g0, "axon_length", n,
+      [&](std::size_t begin, double* out, std::size_t size) {
+        for (std::size_t k = 0; k < size; ++k) out[k] = canonical(r.neurons.length[begin + k] * um);
+      },
+      "um");
+  streamed_column<std::uint8_t>(g0, "status", n, [&](std::size_t begin, std::uint8_t* out, std::size_t size) {
+    for (std::size_t k = 0; k < size; ++k) out[k] = static_cast<std::uint8_t>(r.neurons.status[begin + k]);
+  });
   column(g0, "steps", r.neurons.steps);
   if (r.graph.bfs) column(g0, "bfs_level", r.graph.bfs->level);
   if (!r.graph.component.empty()) column(g0, "component", r.graph.component);
@@ -288,81 +310,99 @@ void write_nodes(const RunResult& r, const fs::path& dir) {
   f.commit();
 }
 
-using Ranges = std::vector<std::array<std::uint64_t, 2>>;
-
 // indices/<name>: the edges of each node as libsonata's index writer lays them out
 // (edge_index.cpp): range_to_edge_id holds the maximal runs of equal node id in edge order,
 // grouped by node (ascending) and in edge order within a node; node_id_to_ranges[v] is the
-// half-open row range of v's runs, empty ([k, k]) for a node without edges.
-void edge_index(hid_t indices, const char* name, const std::vector<std::uint32_t>& node_of_edge, std::size_t nodes) {
-  const std::size_t m = node_of_edge.size();
-  auto starts_run = [&](std::size_t e) { return e == 0 || node_of_edge[e] != node_of_edge[e - 1]; };
-  std::vector<std::uint64_t> first(nodes + 1, 0);  // first row of node v's runs
+// half-open row range of v's runs, empty ([k, k]) for a node without edges. node_of(e) is
+// edge e's node; the writer holds 4 B a node and 4 B a run, and writes both a slab at a time.
+template <class NodeOf>
+void edge_index(hid_t indices, const char* name, std::size_t m, NodeOf node_of, std::size_t nodes) {
+  auto starts_run = [&](std::size_t e) { return e == 0 || node_of(e) != node_of(e - 1); };
+  std::vector<std::uint32_t> first(nodes + 1, 0);  // first row of node v's runs (runs <= edges < 2^32)
   for (std::size_t e = 0; e < m; ++e)
-    if (starts_run(e)) ++first[node_of_edge[e] + 1];
+    if (starts_run(e)) ++first[node_of(e) + 1];
   for (std::size_t v = 0; v < nodes; ++v) first[v + 1] += first[v];
   Handle g = group(indices, name);
+  std::vector<std::array<std::uint64_t, 2>> slab;
   {
-    // node_id_to_ranges[v] = {first[v], first[v + 1]}: 16 B a node, written a slab at a time.
     Handle set = empty_dataset(g, "node_id_to_ranges", H5T_STD_U64LE, {nodes, 2});
-    constexpr std::size_t kSlab = std::size_t{1} << 16;
-    Ranges slab(std::min(nodes, kSlab));
+    slab.resize(std::min(nodes, kSlab));
     for (std::size_t v0 = 0; v0 < nodes; v0 += kSlab) {
       const std::size_t rows = std::min(kSlab, nodes - v0);
       for (std::size_t k = 0; k < rows; ++k) slab[k] = {first[v0 + k], first[v0 + k + 1]};
       write_rows(set, H5T_NATIVE_UINT64, v0, rows, 2, slab.data());
     }
   }
-  Ranges range_to_edge(first[nodes]);
+  // The first edge of every run, at its row: runs in edge order, counted out by node.
+  const std::size_t runs = first[nodes];
+  std::vector<std::uint32_t> run_start(runs);
   for (std::size_t e = 0; e < m; ++e)
-    if (starts_run(e)) range_to_edge[first[node_of_edge[e]]++] = {e, e + 1};
-    else range_to_edge[first[node_of_edge[e]] - 1][1] = e + 1;
-  dataset(g, "range_to_edge_id", H5T_STD_U64LE, H5T_NATIVE_UINT64, range_to_edge.data(), {range_to_edge.size(), 2});
+    if (starts_run(e)) run_start[first[node_of(e)]++] = static_cast<std::uint32_t>(e);
+  first = std::vector<std::uint32_t>();  // freed before the rows are written
+  Handle set = empty_dataset(g, "range_to_edge_id", H5T_STD_U64LE, {runs, 2});
+  slab.resize(std::min(runs, kSlab));
+  for (std::size_t k0 = 0; k0 < runs; k0 += kSlab) {
+    const std::size_t rows = std::min(kSlab, runs - k0);
+    for (std::size_t k = 0; k < rows; ++k) {
+      const std::size_t begin = run_start[k0 + k];
+      std::size_t end = begin + 1;
+      while (end < m && node_of(end) == node_of(begin)) ++end;
+      slab[k] = {begin, end};
+    }
+    write_rows(set, H5T_NATIVE_UINT64, k0, rows, 2, slab.data());
+  }
 }
 
 void write_edges(const RunResult& r, const fs::path& dir) {
   const auto& nr = r.neurons;
   const double um = r.scene.units.micrometres();
   const double speed = r.scene.output.conduction_m_per_s();  // m/s = mm/ms = 1000 µm/ms
-  std::vector<std::uint32_t> source, target;
-  const std::size_t edges_count = static_cast<std::size_t>(
-      std::count_if(nr.target.begin(), nr.target.end(), [](std::uint32_t t) { return t != core::kNoNeuron; }));
-  source.reserve(edges_count);
-  target.reserve(edges_count);
+  // The edges, in the order of their sources: source[e]; its target is nr.target[source[e]].
+  std::vector<std::uint32_t> source;
+  source.reserve(static_cast<std::size_t>(
+      std::count_if(nr.target.begin(), nr.target.end(), [](std::uint32_t t) { return t != core::kNoNeuron; })));
   for (std::size_t i = 0; i < nr.size(); ++i)
-    if (nr.target[i] != core::kNoNeuron) {
-      source.push_back(static_cast<std::uint32_t>(i));
-      target.push_back(nr.target[i]);
-    }
+    if (nr.target[i] != core::kNoNeuron) source.push_back(static_cast<std::uint32_t>(i));
   const std::size_t m = source.size();
+  auto target_of = [&](std::size_t e) { return nr.target[source[e]]; };
   H5Output f(dir, "edges.h5");
   Handle edges = group(f, "edges");
   Handle pop = group(edges, kEdgePopulation);
-  for (const auto& [name, ids] : {std::pair{"source_node_id", &source}, std::pair{"target_node_id", &target}}) {
-    const std::vector<std::uint64_t> wide(ids->begin(), ids->end());
-    Handle set = column(pop, name, wide);
+  {
+    Handle set = streamed_column<std::uint64_t>(pop, "source_node_id", m,
+                                                [&](std::size_t begin, std::uint64_t* out, std::size_t size) {
+                                                  for (std::size_t k = 0; k < size; ++k) out[k] = source[begin + k];
+                                                });
     string_attribute(set, "node_population", kNodePopulation);
   }
   {
-    const std::vector<std::uint32_t> zeros(m, 0);
-    column(pop, "edge_type_id", zeros);
-    column(pop, "edge_group_id", zeros);
-    column(pop, "edge_group_index", iota64(m));
+    Handle set = streamed_column<std::uint64_t>(pop, "target_node_id", m,
+                                                [&](std::size_t begin, std::uint64_t* out, std::size_t size) {
+                                                  for (std::size_t k = 0; k < size; ++k) out[k] = target_of(begin + k);
+                                                });
+    string_attribute(set, "node_population", kNodePopulation);
   }
+  streamed_column<std::uint32_t>(pop, "edge_type_id", m, fill_zeros);
+  streamed_column<std::uint32_t>(pop, "edge_group_id", m, fill_zeros);
+  streamed_column<std::uint64_t>(pop, "edge_group_index", m, fill_iota);
   Handle g0 = group(pop, "0");
+  streamed_column<std::uint32_t>(g0, "step", m, [&](std::size_t begin, std::uint32_t* out, std::size_t size) {
+    for (std::size_t k = 0; k < size; ++k) out[k] = nr.steps[source[begin + k]];
+  });
+  auto length_of = [&](std::size_t e) { return canonical(nr.length[source[e]] * um); };
+  streamed_column<double>(
+      g0, "length", m,
+      [&](std::size_t begin, double* out, std::size_t size) {
+        for (std::size_t k = 0; k < size; ++k) out[k] = length_of(begin + k);
+      },
+      "um");
   {
-    std::vector<std::uint32_t> step(m);
-    for (std::size_t e = 0; e < m; ++e) step[e] = nr.steps[source[e]];
-    column(g0, "step", step);
-  }
-  {
-    std::vector<double> length(m), delay(m);  // freed before the indices are built
-    for (std::size_t e = 0; e < m; ++e) {
-      length[e] = canonical(nr.length[source[e]] * um);
-      delay[e] = canonical(length[e] / (speed * 1000.0));
-    }
-    column(g0, "length", length, "um");
-    Handle set = column(g0, "delay", delay, "ms");
+    Handle set = streamed_column<double>(
+        g0, "delay", m,
+        [&](std::size_t begin, double* out, std::size_t size) {
+          for (std::size_t k = 0; k < size; ++k) out[k] = canonical(length_of(begin + k) / (speed * 1000.0));
+        },
+        "ms");
     scalar_attribute(set, "conduction_speed", &speed, 1);
     string_attribute(set, "conduction_speed_units", "m/s");
   }
@@ -373,8 +413,8 @@ void write_edges(const RunResult& r, const fs::path& dir) {
     ok(H5Lcreate_hard(g0, "delay", dynamics, "delay", H5P_DEFAULT, H5P_DEFAULT), "H5Lcreate_hard");
   }
   Handle indices = group(pop, "indices");
-  edge_index(indices, "source_to_target", source, nr.size());
-  edge_index(indices, "target_to_source", target, nr.size());
+  edge_index(indices, "source_to_target", m, [&](std::size_t e) { return source[e]; }, nr.size());
+  edge_index(indices, "target_to_source", m, target_of, nr.size());
   f.commit();
 }
 

@@ -47,13 +47,13 @@ class OverlapIndex {
   // reads are issued level by level across all the points, so that their cache misses
   // overlap: first the 27 buckets of every point are prefetched, then every chain's first
   // node (its position and its link), and only then are the chains walked. One query is a
-  // chain of dependent misses (head, node, position), about 1.5 us each at 10^7 somas, when
+  // chain of dependent misses (head, node, position), about 1 us a query at 10^7 somas, when
   // the index and the positions are far beyond the cache; a batch of them issues those
   // misses together. The answers are overlaps()'s: whether any slot is near, not which.
   static constexpr std::size_t kBatch = 16;
   void overlaps_batch(const std::vector<core::Vec3>& pos, const core::Vec3* p, std::size_t count, double min_dist2,
                       bool* hit) const {
-    std::uint32_t buckets[kBatch][27];
+    std::size_t buckets[kBatch][27];  // a point's buckets, then their chains' first slots
     for (std::size_t q = 0; q < count; ++q) {
       const std::int64_t cx = coord(p[q].x), cy = coord(p[q].y), cz = coord(p[q].z);
       int k = 0;
@@ -62,13 +62,13 @@ class OverlapIndex {
           for (std::int64_t dx = -1; dx <= 1; ++dx) {
             const std::size_t b = bucket(cx + dx, cy + dy, cz + dz);
             __builtin_prefetch(&head_[b]);
-            buckets[q][k++] = static_cast<std::uint32_t>(b);
+            buckets[q][k++] = b;
           }
     }
     for (std::size_t q = 0; q < count; ++q)
       for (int k = 0; k < 27; ++k) {
         const std::uint32_t j = head_[buckets[q][k]];
-        buckets[q][k] = j;  // from here on, the chain's first slot
+        buckets[q][k] = j;
         if (j != kEmpty) {
           __builtin_prefetch(&pos[j]);
           __builtin_prefetch(&next_[j - base_]);
@@ -77,7 +77,7 @@ class OverlapIndex {
     for (std::size_t q = 0; q < count; ++q) {
       hit[q] = false;
       for (int k = 0; k < 27 && !hit[q]; ++k)
-        for (std::uint32_t j = buckets[q][k]; j != kEmpty; j = next_[j - base_])
+        for (auto j = static_cast<std::uint32_t>(buckets[q][k]); j != kEmpty; j = next_[j - base_])
           if (core::norm2(pos[j] - p[q]) < min_dist2) {
             hit[q] = true;
             break;

@@ -159,10 +159,9 @@ Handle dataset(hid_t parent, const char* name, hid_t file_type, hid_t mem_type, 
   return set;
 }
 
-// Rows [row, row + rows) of a 2-D dataset of `cols` columns, from `data` (row-major): a
-// dataset too large to hold beside the run is written a slab at a time. The file's bytes
-// are those of one write (contiguous storage, allocated whole at the first write).
-// cols = 0: a 1-D dataset.
+// Rows [row, row + rows) of a 2-D dataset of `cols` columns (0: a 1-D dataset) from `data`,
+// row-major. A dataset written a slab at a time has the bytes of one write: contiguous
+// storage, allocated whole at the first write.
 void write_rows(hid_t set, hid_t mem_type, hsize_t row, hsize_t rows, hsize_t cols, const void* data) {
   if (rows == 0) return;
   Handle file_space(H5Dget_space(set), H5Sclose, "H5Dget_space");
@@ -173,7 +172,7 @@ void write_rows(hid_t set, hid_t mem_type, hsize_t row, hsize_t rows, hsize_t co
   ok(H5Dwrite(set, mem_type, mem_space, file_space, H5P_DEFAULT, data), "H5Dwrite");
 }
 
-// Rows a dataset too large to hold beside the run is written in (the writer holds one).
+// The rows of one slab: what the writer computes it holds a slab of, never a whole column.
 constexpr std::size_t kSlab = std::size_t{1} << 16;
 
 // A column of `count` elements written a slab at a time, never held whole: fill(begin, out,
@@ -263,7 +262,6 @@ class H5Output {
     return Handle(H5Fcreate(temp_.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose, "H5Fcreate");
   }
 };
-
 
 // Every column the writer computes is written a slab at a time (streamed_column), so that
 // the writer holds about a slab beside the run's result, not a column.

@@ -176,7 +176,10 @@ TEST(resume, TheAcceleratorsEngineResumesToTheSameBytes) {
   }
 }
 
-// kill -9 at random times (the run's own pace decides the stage it is in).
+// kill -9 at random times once the run has claimed its folder (its running manifest is
+// there; the run's own pace decides the stage it is in). A kill before that, while the
+// command starts, leaves nothing to resume: --resume says the folder is not a run's, and
+// a plain run into it gives the uninterrupted bytes.
 TEST(resume, KilledAtRandomTimesResumesToTheSameBytes) {
   json s = base_scene();
   s["neurons"]["count"] = 3000;
@@ -195,6 +198,11 @@ TEST(resume, KilledAtRandomTimesResumesToTheSameBytes) {
               static_cast<char*>(nullptr));
       ::_exit(127);
     }
+    // The wait for the claim is bounded by the run itself: it exits (and the kill is
+    // then of a finished process) if it never writes one.
+    const auto started = std::chrono::steady_clock::now();
+    while (!fs::exists(out / kManifestName) && std::chrono::steady_clock::now() - started < std::chrono::seconds(20))
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(20, 600)(rng)));
     ::kill(pid, SIGKILL);
     int status = 0;
@@ -205,6 +213,18 @@ TEST(resume, KilledAtRandomTimesResumesToTheSameBytes) {
     EXPECT_EQ(outputs(out), want) << "trial " << trial;
   }
   EXPECT_GT(killed, 0);  // at least some of them died mid-run
+
+  // Killed after it made its folder and took the lock, before the running manifest: the
+  // folder holds the lock file alone (the kernel released the lock with the process).
+  const fs::path early = t.dir() / "early";
+  fs::create_directories(early);
+  std::ofstream(early / kLockName).flush();
+  const Result refused = axonguide(fmt::format("run --resume {} -q", early.string()), t.dir());
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("not a run's folder"), std::string::npos) << refused.err;
+  const Result fresh = axonguide(fmt::format("run {} --out {} -q", t.scene().string(), early.string()), t.dir());
+  ASSERT_EQ(fresh.code, 0) << fresh.err;
+  EXPECT_EQ(outputs(early), want);
 }
 
 // SIGINT and SIGTERM: the step ends, a checkpoint and an "interrupted" manifest are

@@ -31,16 +31,11 @@ class OverlapIndex {
   // query is bound by memory latency once the index outgrows the cache); the answer does
   // not depend on the order the chains are then walked in.
   bool overlaps(const std::vector<core::Vec3>& pos, core::Vec3 p, double min_dist2) const {
-    const std::int64_t cx = coord(p.x), cy = coord(p.y), cz = coord(p.z);
+    std::size_t buckets[27];
+    neighbour_buckets(p, buckets);
     std::uint32_t heads[27];
-    int k = 0;
-    for (std::int64_t dz = -1; dz <= 1; ++dz)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dx = -1; dx <= 1; ++dx) heads[k++] = head_[bucket(cx + dx, cy + dy, cz + dz)];
-    for (k = 0; k < 27; ++k)
-      for (std::uint32_t j = heads[k]; j != kEmpty; j = next_[j - base_])
-        if (core::norm2(pos[j] - p) < min_dist2) return true;
-    return false;
+    for (int k = 0; k < 27; ++k) heads[k] = head_[buckets[k]];
+    return chains_hold_near(pos, p, min_dist2, heads);
   }
 
   // overlaps() for `count` points at once (count <= kBatch), hit[q] its answer for p[q]. The
@@ -53,36 +48,21 @@ class OverlapIndex {
   static constexpr std::size_t kBatch = 16;
   void overlaps_batch(const std::vector<core::Vec3>& pos, const core::Vec3* p, std::size_t count, double min_dist2,
                       bool* hit) const {
-    std::size_t buckets[kBatch][27];  // a point's buckets, then their chains' first slots
+    std::size_t buckets[kBatch][27];
     for (std::size_t q = 0; q < count; ++q) {
-      const std::int64_t cx = coord(p[q].x), cy = coord(p[q].y), cz = coord(p[q].z);
-      int k = 0;
-      for (std::int64_t dz = -1; dz <= 1; ++dz)
-        for (std::int64_t dy = -1; dy <= 1; ++dy)
-          for (std::int64_t dx = -1; dx <= 1; ++dx) {
-            const std::size_t b = bucket(cx + dx, cy + dy, cz + dz);
-            __builtin_prefetch(&head_[b]);
-            buckets[q][k++] = b;
-          }
+      neighbour_buckets(p[q], buckets[q]);
+      for (int k = 0; k < 27; ++k) __builtin_prefetch(&head_[buckets[q][k]]);
     }
+    std::uint32_t heads[kBatch][27];
     for (std::size_t q = 0; q < count; ++q)
       for (int k = 0; k < 27; ++k) {
-        const std::uint32_t j = head_[buckets[q][k]];
-        buckets[q][k] = j;
+        const std::uint32_t j = heads[q][k] = head_[buckets[q][k]];
         if (j != kEmpty) {
           __builtin_prefetch(&pos[j]);
           __builtin_prefetch(&next_[j - base_]);
         }
       }
-    for (std::size_t q = 0; q < count; ++q) {
-      hit[q] = false;
-      for (int k = 0; k < 27 && !hit[q]; ++k)
-        for (auto j = static_cast<std::uint32_t>(buckets[q][k]); j != kEmpty; j = next_[j - base_])
-          if (core::norm2(pos[j] - p[q]) < min_dist2) {
-            hit[q] = true;
-            break;
-          }
-    }
+    for (std::size_t q = 0; q < count; ++q) hit[q] = chains_hold_near(pos, p[q], min_dist2, heads[q]);
   }
 
   // The bucket insert(p) writes to, prefetched: an insert loop calls it a few slots ahead.
@@ -99,6 +79,23 @@ class OverlapIndex {
 
  private:
   static constexpr std::uint32_t kEmpty = 0xffffffffu;
+
+  // The buckets of the 27 cells around p's.
+  void neighbour_buckets(core::Vec3 p, std::size_t (&out)[27]) const {
+    const std::int64_t cx = coord(p.x), cy = coord(p.y), cz = coord(p.z);
+    int k = 0;
+    for (std::int64_t dz = -1; dz <= 1; ++dz)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dx = -1; dx <= 1; ++dx) out[k++] = bucket(cx + dx, cy + dy, cz + dz);
+  }
+  // Whether a slot of the chains from `heads` lies within the distance of p.
+  bool chains_hold_near(const std::vector<core::Vec3>& pos, core::Vec3 p, double min_dist2,
+                        const std::uint32_t (&heads)[27]) const {
+    for (int k = 0; k < 27; ++k)
+      for (std::uint32_t j = heads[k]; j != kEmpty; j = next_[j - base_])
+        if (core::norm2(pos[j] - p) < min_dist2) return true;
+    return false;
+  }
   std::int64_t coord(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
   std::size_t bucket(std::int64_t x, std::int64_t y, std::int64_t z) const {
     std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -175,17 +176,27 @@ void write_rows(hid_t set, hid_t mem_type, hsize_t row, hsize_t rows, hsize_t co
 // The rows of one slab: what the writer computes it holds a slab of, never a whole column.
 constexpr std::size_t kSlab = std::size_t{1} << 16;
 
-// A column of `count` elements written a slab at a time, never held whole: fill(begin, out,
-// size) writes elements [begin, begin + size) to out, called for ascending begins.
-template <class T, class Fill>
-Handle streamed_column(hid_t parent, const char* name, std::size_t count, Fill&& fill, const char* units = nullptr) {
-  Handle set = empty_dataset(parent, name, H5Of<T>::file(), {count});
-  std::vector<T> slab(std::min(count, kSlab));
+// A dataset of `count` rows written a slab at a time, never held whole: fill(begin, out,
+// size) writes rows [begin, begin + size) to out, called for ascending begins. A Row is one
+// element (cols 0: a 1-D dataset) or an array of `cols` of them.
+template <class Row, class Fill>
+Handle streamed_rows(hid_t parent, const char* name, hid_t file_type, hid_t mem_type, std::size_t count, hsize_t cols,
+                     Fill&& fill) {
+  Handle set = cols ? empty_dataset(parent, name, file_type, {count, cols})
+                    : empty_dataset(parent, name, file_type, {count});
+  std::vector<Row> slab(std::min(count, kSlab));
   for (std::size_t begin = 0; begin < count; begin += kSlab) {
     const std::size_t size = std::min(kSlab, count - begin);
     fill(begin, slab.data(), size);
-    write_rows(set, H5Of<T>::mem(), begin, size, 0, slab.data());
+    write_rows(set, mem_type, begin, size, cols, slab.data());
   }
+  return set;
+}
+
+// A column of `count` elements, streamed_rows's 1-D case.
+template <class T, class Fill>
+Handle streamed_column(hid_t parent, const char* name, std::size_t count, Fill&& fill, const char* units = nullptr) {
+  Handle set = streamed_rows<T>(parent, name, H5Of<T>::file(), H5Of<T>::mem(), count, 0, std::forward<Fill>(fill));
   if (units) string_attribute(set, "units", units);
   return set;
 }
@@ -287,8 +298,8 @@ void write_nodes(const RunResult& r, const fs::path& dir) {
         "um");
   const double soma_radius = canonical(r.scene.neurons.soma_radius * um);
   streamed_column<double>(
-      g0, "soma_radius", n, [&](std::size_t, double* out, std::size_t size) { std::fill(out, out + size, soma_radius); },
-      "um");
+      g0, "soma_radius", n,
+      [&](std::size_t, double* out, std::size_t size) { std::fill(out, out + size, soma_radius); }, "um");
   streamed_column<double>(
       g0, "axon_length", n,
       [&](std::size_t begin, double* out, std::size_t size) {
@@ -321,34 +332,26 @@ void edge_index(hid_t indices, const char* name, std::size_t m, NodeOf node_of, 
     if (starts_run(e)) ++first[node_of(e) + 1];
   for (std::size_t v = 0; v < nodes; ++v) first[v + 1] += first[v];
   Handle g = group(indices, name);
-  std::vector<std::array<std::uint64_t, 2>> slab;
-  {
-    Handle set = empty_dataset(g, "node_id_to_ranges", H5T_STD_U64LE, {nodes, 2});
-    slab.resize(std::min(nodes, kSlab));
-    for (std::size_t v0 = 0; v0 < nodes; v0 += kSlab) {
-      const std::size_t rows = std::min(kSlab, nodes - v0);
-      for (std::size_t k = 0; k < rows; ++k) slab[k] = {first[v0 + k], first[v0 + k + 1]};
-      write_rows(set, H5T_NATIVE_UINT64, v0, rows, 2, slab.data());
-    }
-  }
+  using Range = std::array<std::uint64_t, 2>;
+  streamed_rows<Range>(g, "node_id_to_ranges", H5T_STD_U64LE, H5T_NATIVE_UINT64, nodes, 2,
+                       [&](std::size_t begin, Range* out, std::size_t size) {
+                         for (std::size_t k = 0; k < size; ++k) out[k] = {first[begin + k], first[begin + k + 1]};
+                       });
   // The first edge of every run, at its row: runs in edge order, counted out by node.
   const std::size_t runs = first[nodes];
   std::vector<std::uint32_t> run_start(runs);
   for (std::size_t e = 0; e < m; ++e)
     if (starts_run(e)) run_start[first[node_of(e)]++] = static_cast<std::uint32_t>(e);
   first = std::vector<std::uint32_t>();  // freed before the rows are written
-  Handle set = empty_dataset(g, "range_to_edge_id", H5T_STD_U64LE, {runs, 2});
-  slab.resize(std::min(runs, kSlab));
-  for (std::size_t k0 = 0; k0 < runs; k0 += kSlab) {
-    const std::size_t rows = std::min(kSlab, runs - k0);
-    for (std::size_t k = 0; k < rows; ++k) {
-      const std::size_t begin = run_start[k0 + k];
-      std::size_t end = begin + 1;
-      while (end < m && node_of(end) == node_of(begin)) ++end;
-      slab[k] = {begin, end};
-    }
-    write_rows(set, H5T_NATIVE_UINT64, k0, rows, 2, slab.data());
-  }
+  streamed_rows<Range>(g, "range_to_edge_id", H5T_STD_U64LE, H5T_NATIVE_UINT64, runs, 2,
+                       [&](std::size_t begin, Range* out, std::size_t size) {
+                         for (std::size_t k = 0; k < size; ++k) {
+                           const std::size_t start = run_start[begin + k];
+                           std::size_t end = start + 1;
+                           while (end < m && node_of(end) == node_of(start)) ++end;
+                           out[k] = {start, end};
+                         }
+                       });
 }
 
 void write_edges(const RunResult& r, const fs::path& dir) {

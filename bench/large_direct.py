@@ -43,6 +43,9 @@ def run_once(binary, n, threads, sonata, work, csv=True):
     with open(path, "w") as f:
         json.dump(scene(n, sonata, csv), f)
     out = os.path.join(work, f"out-{n}")
+    # The previous run's gigabytes of output are still being written back to the disk; that
+    # traffic would land in this run's timings (its output phase moved by 2x without it).
+    os.sync()
     t0 = time.monotonic()
     subprocess.run([binary, "run", path, "--out", out, "--force", "-q", "--threads", str(threads)], check=True)
     wall = time.monotonic() - t0

@@ -256,5 +256,37 @@ RC_GTEST_PROP(placement, OverlapBatchAnswersAsSingleQueries, ()) {
   for (std::size_t q = 0; q < count; ++q) RC_ASSERT(hit[q] == index.overlaps(pos, p[q], min_dist * min_dist));
 }
 
+// A query answers exactly what testing every indexed point answers, at any scale of the
+// coordinates (up to 10^7 times the distance, where rounding a position to float moves it by
+// about the distance itself) and for points within a few ulps of the overlap distance, on
+// either side: the index's float positions only rule out, never decide.
+RC_GTEST_PROP(placement, OverlapQueryIsExhaustiveSearch, ()) {
+  const double min_dist = *rc::gen::element(0.5, 1.0, 3.0), min_dist2 = min_dist * min_dist;
+  const double scale = *rc::gen::element(1.0, 1e3, 1e5, 1e7);
+  const std::size_t n = *rc::gen::inRange<std::size_t>(1, 300);
+  const auto coord = [&] { return scale * static_cast<double>(*rc::gen::inRange(-4000, 4000)) / 3989.0; };
+  std::vector<core::Vec3> pos(n);
+  OverlapIndex index(n, min_dist, *rc::gen::element<std::size_t>(1, 64, 1024));
+  for (std::size_t i = 0; i < n; ++i) {
+    pos[i] = {coord(), coord(), coord()};
+    index.insert(static_cast<std::uint32_t>(i), pos[i]);
+  }
+  for (int t = 0; t < 32; ++t) {
+    core::Vec3 q{coord(), coord(), coord()};
+    if (*rc::gen::arbitrary<bool>()) {  // at the distance from an indexed point, give or take a few ulps
+      const core::Vec3 at = pos[*rc::gen::inRange<std::size_t>(0, n)];
+      core::Vec3 u{static_cast<double>(*rc::gen::inRange(-9, 10)), static_cast<double>(*rc::gen::inRange(-9, 10)),
+                   static_cast<double>(*rc::gen::inRange(-9, 10))};
+      const double len = std::sqrt(core::norm2(u));
+      if (len == 0.0) u = {1.0, 0.0, 0.0};
+      const double r = min_dist * (1.0 + static_cast<double>(*rc::gen::inRange(-4, 5)) * 0x1p-52);
+      q = at + u * (r / (len == 0.0 ? 1.0 : len));
+    }
+    bool brute = false;
+    for (const core::Vec3& x : pos) brute = brute || core::norm2(x - q) < min_dist2;
+    RC_ASSERT(index.overlaps(pos, q, min_dist2) == brute);
+  }
+}
+
 }  // namespace
 }  // namespace axg

@@ -214,7 +214,7 @@ def main():
     ap.add_argument("exe")
     ap.add_argument("--mpiexec", default=shutil.which("mpiexec") or "mpiexec")
     ap.add_argument("--strong", type=int, default=1000000)
-    ap.add_argument("--weak", type=int, default=250000)
+    ap.add_argument("--weak", type=int, default=250000, help="neurons a rank; 0: strong scaling alone")
     ap.add_argument("--ranks", default="1,2,4")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--field", choices=["direct", "particles", "gather", "grid"], default="direct")
@@ -229,14 +229,14 @@ def main():
     try:
         strong = measure(a.exe, a.mpiexec, a.strong, ranks, a.repeats, tmp, [1, 2])
         weak = []
-        for k in ranks:
+        for k in (ranks if a.weak > 0 else []):
             WEAK_K = k
             weak += measure(a.exe, a.mpiexec, a.weak * k, [k], a.repeats, tmp, [1])
         WEAK_K = 1
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    text = "\n\n".join([markdown(strong, f"Strong scaling, {a.strong:,} neurons"),
-                        markdown(weak, f"Weak scaling, {a.weak:,} neurons a rank")])
+    text = "\n\n".join([markdown(strong, f"Strong scaling, {a.strong:,} neurons")]
+                       + ([markdown(weak, f"Weak scaling, {a.weak:,} neurons a rank")] if weak else []))
     print(text)
     if a.markdown:
         open(a.markdown, "w").write(text + "\n")

@@ -105,7 +105,10 @@ class DecomposedGridField final : public CueField {
   }
 
   std::size_t bytes() const override {
-    return (buffer_[0].size() + buffer_[1].size() + cp_.size() + dp_.size()) * sizeof(double);
+    std::size_t ghosts = 0;
+    for (const Bytes& b : ghost_out_) ghosts += b.capacity();
+    for (const Bytes& b : ghost_in_) ghosts += b.capacity();
+    return (buffer_[0].size() + buffer_[1].size() + cp_.size() + dp_.size()) * sizeof(double) + ghosts;
   }
 
   std::string note() const override { return note_; }
@@ -148,12 +151,15 @@ class DecomposedGridField final : public CueField {
   void exchange_ghosts(double* c, int width) {
     if (ranks_ == 1) return;
     const Traffic before = comm_.traffic();
-    std::vector<Bytes> out(peers_.size());
+    std::vector<Bytes>& out = ghost_out_;
+    out.resize(peers_.size());
+    for (Bytes& b : out) b.clear();
     std::size_t p = 0;
     const std::size_t w = static_cast<std::size_t>(width);
     if (rank_ > 0) append(out[p++], c + local(z0_), w * plane_);
     if (rank_ + 1 < ranks_) append(out[p++], c + local(z1_ - width), w * plane_);
-    const std::vector<Bytes> in = comm_.exchange(out);
+    std::vector<Bytes>& in = ghost_in_;
+    comm_.exchange_into(out, in);
     p = 0;
     if (rank_ > 0) receive(in[p++], c + local(z0_ - width), w);
     if (rank_ + 1 < ranks_) receive(in[p++], c + local(z1_), w);
@@ -331,6 +337,7 @@ class DecomposedGridField final : public CueField {
   std::vector<int> cur_;
   std::vector<std::uint32_t> substeps_;
   std::vector<double> cp_, dp_;  // the z sweep's (c', d') of this rank's rows
+  std::vector<Bytes> ghost_out_, ghost_in_;  // the ghost exchange's buffers, kept from step to step
 };
 
 }  // namespace

@@ -87,32 +87,31 @@ class MpiComm final : public Comm {
     MPI_Comm_set_errhandler(graph_, MPI_ERRORS_RETURN);
   }
 
-  std::vector<Bytes> exchange(const std::vector<Bytes>& out) override {
+  void exchange_into(const std::vector<Bytes>& out, std::vector<Bytes>& in) override {
     const std::size_t n = peers_.size();
     count_collective(n * 4);
-    std::vector<int> send_counts(n), recv_counts(n), send_displs(n), recv_displs(n);
-    Bytes send;
+    send_counts_.resize(n), recv_counts_.resize(n), send_displs_.resize(n), recv_displs_.resize(n);
+    send_.clear();
     for (std::size_t k = 0; k < n; ++k) {
-      send_displs[k] = as_int(send.size(), "exchange");
-      send_counts[k] = as_int(out[k].size(), "exchange");
-      send.insert(send.end(), out[k].begin(), out[k].end());
+      send_displs_[k] = as_int(send_.size(), "exchange");
+      send_counts_[k] = as_int(out[k].size(), "exchange");
+      send_.insert(send_.end(), out[k].begin(), out[k].end());
       if (!out[k].empty()) ++traffic_.messages, traffic_.message_bytes += out[k].size();
     }
-    check(MPI_Neighbor_alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, graph_),
+    check(MPI_Neighbor_alltoall(send_counts_.data(), 1, MPI_INT, recv_counts_.data(), 1, MPI_INT, graph_),
           "MPI_Neighbor_alltoall");
     std::size_t total = 0;
     for (std::size_t k = 0; k < n; ++k) {
-      recv_displs[k] = as_int(total, "exchange");
-      total += static_cast<std::size_t>(recv_counts[k]);
+      recv_displs_[k] = as_int(total, "exchange");
+      total += static_cast<std::size_t>(recv_counts_[k]);
     }
-    Bytes recv(total);
-    check(MPI_Neighbor_alltoallv(send.data(), send_counts.data(), send_displs.data(), MPI_BYTE, recv.data(),
-                                 recv_counts.data(), recv_displs.data(), MPI_BYTE, graph_),
+    recv_.resize(total);
+    check(MPI_Neighbor_alltoallv(send_.data(), send_counts_.data(), send_displs_.data(), MPI_BYTE, recv_.data(),
+                                 recv_counts_.data(), recv_displs_.data(), MPI_BYTE, graph_),
           "MPI_Neighbor_alltoallv");
-    std::vector<Bytes> in(n);
+    in.resize(n);
     for (std::size_t k = 0; k < n; ++k)
-      in[k].assign(recv.begin() + recv_displs[k], recv.begin() + recv_displs[k] + recv_counts[k]);
-    return in;
+      in[k].assign(recv_.begin() + recv_displs_[k], recv_.begin() + recv_displs_[k] + recv_counts_[k]);
   }
 
   std::vector<Bytes> gather(Bytes mine) override {
@@ -151,6 +150,9 @@ class MpiComm final : public Comm {
   MPI_Comm comm_ = MPI_COMM_NULL, graph_ = MPI_COMM_NULL;
   int rank_ = 0, size_ = 1;
   std::vector<int> peers_;
+  // The exchanges' scratch, kept from call to call.
+  Bytes send_, recv_;
+  std::vector<int> send_counts_, recv_counts_, send_displs_, recv_displs_;
 };
 
 }  // namespace

@@ -208,10 +208,17 @@ class DecomposedParticleField final : public CueField {
   std::size_t bytes() const override {
     return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
            keep_.capacity() + local_pos_.capacity() * 24 + local_source_.capacity() * 2 + local_slot_.capacity() * 4 +
-           grid_.bytes() + estimate_.capacity() * 8 + deposit_.capacity() * 8;
+           grid_.bytes() + estimate_.capacity() * 8 + deposit_.capacity() * 8 + buffers_bytes();
   }
 
  private:
+  std::size_t buffers_bytes() const {
+    std::size_t n = arrivals_.capacity() * sizeof(Migrant) + halo_.capacity() * sizeof(HaloParticle);
+    for (const Bytes& b : out_) n += b.capacity();
+    for (const Bytes& b : in_) n += b.capacity();
+    return n;
+  }
+
   core::EstimateSet estimate_set() const {
     core::EstimateSet e = mesh_;
     e.c = estimate_.data();
@@ -247,7 +254,9 @@ class DecomposedParticleField final : public CueField {
   // exchange, any other rank (a Brownian step has no bound) by an all-gather that is empty
   // but for such rare jumps. Arrivals are merged in by id.
   void migrate() {
-    std::vector<Bytes> out(neighbours_.size());
+    std::vector<Bytes>& out = out_;
+    out.resize(neighbours_.size());
+    for (Bytes& b : out) b.clear();
     Bytes far;
     std::size_t w = 0;
     for (std::size_t i = 0; i < pos_.size(); ++i) {
@@ -267,9 +276,11 @@ class DecomposedParticleField final : public CueField {
     }
     pos_.resize(w), id_.resize(w), source_.resize(w);
     if (ballistic_) vel_.resize(w);
-    std::vector<Migrant> in;
-    std::vector<std::size_t> ends;
-    for (const Bytes& from : comm_.exchange(out)) {
+    std::vector<Migrant>& in = arrivals_;
+    std::vector<std::size_t>& ends = ends_;
+    in.clear(), ends.clear();
+    comm_.exchange_into(out, in_);
+    for (const Bytes& from : in_) {
       for_each_record<Migrant>(from, [&](const Migrant& m) { in.push_back(m); });
       ends.push_back(in.size());
     }
@@ -309,16 +320,20 @@ class DecomposedParticleField final : public CueField {
   // slot there.
   void refresh_halo() {
     const Traffic before = comm_.traffic();
-    std::vector<Bytes> out(neighbours_.size());
+    std::vector<Bytes>& out = out_;
+    out.resize(neighbours_.size());
+    for (Bytes& b : out) b.clear();
     for (std::size_t i = 0; i < pos_.size(); ++i) {
       if (!d_.near_boundary(rank_, pos_[i], width_)) continue;
       const HaloParticle h{pos_[i], id_[i], source_[i]};
       for (std::size_t k = 0; k < neighbours_.size(); ++k)
         if (d_.near(neighbours_[k], pos_[i], width_)) append(out[k], &h, 1);
     }
-    std::vector<HaloParticle> halo;
-    std::vector<std::size_t> ends;
-    for (const Bytes& from : comm_.exchange(out)) {
+    std::vector<HaloParticle>& halo = halo_;
+    std::vector<std::size_t>& ends = ends_;
+    halo.clear(), ends.clear();
+    comm_.exchange_into(out, in_);
+    for (const Bytes& from : in_) {
       for_each_record<HaloParticle>(from, [&](const HaloParticle& h) { halo.push_back(h); });
       ends.push_back(halo.size());
     }
@@ -387,6 +402,12 @@ class DecomposedParticleField final : public CueField {
   std::vector<std::uint16_t> local_source_;
   std::vector<std::uint32_t> local_slot_;
   ParticleHashGrid grid_;
+  // The exchanges' buffers, kept from step to step (their capacity is memory already
+  // touched; fresh buffers each step made page faults the halo's largest cost).
+  std::vector<Bytes> out_, in_;
+  std::vector<Migrant> arrivals_;
+  std::vector<HaloParticle> halo_;
+  std::vector<std::size_t> ends_;
   // The whole estimate (2 K meshes), the same on every rank.
   std::vector<double> estimate_;
   std::vector<std::uint64_t> deposit_;

@@ -44,8 +44,17 @@ class Comm {
   virtual void allreduce(std::vector<std::uint64_t>& values, Reduce op) = 0;
   // The peers of exchange(): a symmetric list (a is b's peer when b is a's), ascending.
   virtual void set_neighbours(const std::vector<int>& peers) = 0;
-  // Sends out[k] to peer k and returns what each peer sent, in peer order.
-  virtual std::vector<Bytes> exchange(const std::vector<Bytes>& out) = 0;
+  // Sends out[k] to peer k; in[k] becomes what peer k sent. `in` keeps its buffers'
+  // capacity from call to call, so that a step's exchanges reuse memory the previous step
+  // touched (a fresh megabyte a step faults on every page, which a virtual machine makes
+  // the halo's largest cost).
+  virtual void exchange_into(const std::vector<Bytes>& out, std::vector<Bytes>& in) = 0;
+  // The same, into fresh buffers: what each peer sent, in peer order.
+  std::vector<Bytes> exchange(const std::vector<Bytes>& out) {
+    std::vector<Bytes> in;
+    exchange_into(out, in);
+    return in;
+  }
   // Every rank's bytes on rank 0, in rank order; empty on the other ranks. Takes the
   // buffer, so that rank 0 keeps its own without a copy.
   virtual std::vector<Bytes> gather(Bytes mine) = 0;
@@ -60,9 +69,8 @@ class Comm {
 template <class T>
 void append(Bytes& out, const T* data, std::size_t count) {
   static_assert(std::is_trivially_copyable_v<T>);
-  const std::size_t at = out.size();
-  out.resize(at + count * sizeof(T));
-  if (count) std::memcpy(out.data() + at, data, count * sizeof(T));
+  const std::byte* from = reinterpret_cast<const std::byte*>(data);
+  out.insert(out.end(), from, from + count * sizeof(T));
 }
 template <class T>
 void append(Bytes& out, const std::vector<T>& v) {

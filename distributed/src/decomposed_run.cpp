@@ -46,7 +46,8 @@ json DecomposedRun::facts() {
                                  r.placement.collective_bytes, r.steps.messages,  r.steps.message_bytes,
                                  r.steps.collective_bytes,     r.gathers.messages, r.gathers.message_bytes,
                                  r.field.migrated,             r.field.halo_particles, r.field.owned_particles,
-                                 r.field.halo.messages,        r.field.halo.message_bytes, r.field.ghost_values};
+                                 r.field.halo.messages,        r.field.halo.message_bytes, r.field.ghost_values,
+                                 r.field.far_migrated};
   auto micro = [](double s) { return static_cast<std::uint64_t>(s * 1e6); };
   // Peak memory so far: rank 0's (which holds the whole result) and the largest other's.
   const std::uint64_t peak = peak_rss_bytes();
@@ -80,6 +81,7 @@ json DecomposedRun::facts() {
             {"collective_bytes", per_step(sum[6])},
             {"max_rank_message_bytes", per_step(most[2])},
             {"migrated_particles", per_step(sum[9])},
+            {"far_particles", per_step(sum[15])},
             {"halo_particles", per_step(sum[10])},
             {"owned_particles", per_step(sum[11])},
             {"halo_messages", per_step(sum[12])},

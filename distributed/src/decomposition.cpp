@@ -12,45 +12,6 @@
 
 namespace axg::distributed {
 
-std::array<int, 3> Decomposition::block_of(core::Vec3 p) const {
-  const double c[3] = {p.x, p.y, p.z};
-  std::array<int, 3> b{};
-  for (int a = 0; a < 3; ++a) {
-    const double t = (c[a] + half) / edge[a];
-    b[a] = !(t >= 0.0) ? 0 : t >= blocks[a] ? blocks[a] - 1 : static_cast<int>(t);
-  }
-  return b;
-}
-
-std::array<int, 3> Decomposition::block(int rank) const {
-  return {rank % blocks[0], (rank / blocks[0]) % blocks[1], rank / (blocks[0] * blocks[1])};
-}
-
-bool Decomposition::near_boundary(int rank, core::Vec3 p, double width) const {
-  const std::array<int, 3> b = block(rank);
-  const double c[3] = {p.x, p.y, p.z};
-  for (int a = 0; a < 3; ++a) {
-    const double lo = -half + b[a] * edge[a], hi = lo + edge[a];
-    if (b[a] > 0 && c[a] - lo <= width) return true;
-    if (b[a] < blocks[a] - 1 && hi - c[a] <= width) return true;
-  }
-  return false;
-}
-
-bool Decomposition::near(int rank, core::Vec3 p, double width) const {
-  const std::array<int, 3> b = block(rank);
-  const double c[3] = {p.x, p.y, p.z};
-  double d2 = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    const double lo = -half + b[a] * edge[a], hi = lo + edge[a];
-    double d = 0.0;
-    if (b[a] > 0 && c[a] < lo) d = lo - c[a];
-    if (b[a] < blocks[a] - 1 && c[a] > hi) d = c[a] - hi;
-    d2 += d * d;
-  }
-  return d2 <= width * width;
-}
-
 std::vector<int> Decomposition::neighbours(int rank) const {
   const std::array<int, 3> b = block(rank);
   std::vector<int> out;

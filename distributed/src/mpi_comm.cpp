@@ -32,6 +32,7 @@ int as_int(std::size_t n, const char* what) {
 
 constexpr std::size_t kChunk = std::size_t{1} << 30;
 constexpr int kGatherTag = 71;
+constexpr int kExchangeTag = 72;
 
 class MpiComm final : public Comm {
  public:
@@ -42,7 +43,6 @@ class MpiComm final : public Comm {
     MPI_Comm_size(comm_, &size_);
   }
   ~MpiComm() override {
-    if (graph_ != MPI_COMM_NULL) MPI_Comm_free(&graph_);
     MPI_Comm_free(&comm_);
   }
   int rank() const override { return rank_; }
@@ -61,6 +61,7 @@ class MpiComm final : public Comm {
       total += sizes[r];
     }
     as_int(total, "all-gather");
+    if (total == 0) return std::vector<Bytes>(static_cast<std::size_t>(size_));  // the usual case of rare traffic
     Bytes all(total);
     check(MPI_Allgatherv(mine.data(), counts[rank_], MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE,
                          comm_),
@@ -77,41 +78,31 @@ class MpiComm final : public Comm {
           "MPI_Allreduce");
   }
 
-  void set_neighbours(const std::vector<int>& peers) override {
-    if (graph_ != MPI_COMM_NULL) MPI_Comm_free(&graph_);
-    peers_ = peers;
-    const int n = static_cast<int>(peers.size());
-    check(MPI_Dist_graph_create_adjacent(comm_, n, peers.data(), MPI_UNWEIGHTED, n, peers.data(), MPI_UNWEIGHTED,
-                                         MPI_INFO_NULL, 0, &graph_),
-          "MPI_Dist_graph_create_adjacent");
-    MPI_Comm_set_errhandler(graph_, MPI_ERRORS_RETURN);
-  }
+  void set_neighbours(const std::vector<int>& peers) override { peers_ = peers; }
 
+  // One message to each peer and one from each, sizes carried by the messages themselves
+  // (matched probes), received straight into `in`: a round trip, not the two collectives
+  // (counts, then payloads) and the staging copies of a neighbourhood all-to-all.
   void exchange_into(const std::vector<Bytes>& out, std::vector<Bytes>& in) override {
     const std::size_t n = peers_.size();
-    count_collective(n * 4);
-    send_counts_.resize(n), recv_counts_.resize(n), send_displs_.resize(n), recv_displs_.resize(n);
-    send_.clear();
+    requests_.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
-      send_displs_[k] = as_int(send_.size(), "exchange");
-      send_counts_[k] = as_int(out[k].size(), "exchange");
-      send_.insert(send_.end(), out[k].begin(), out[k].end());
-      if (!out[k].empty()) ++traffic_.messages, traffic_.message_bytes += out[k].size();
+      check(MPI_Isend(out[k].data(), as_int(out[k].size(), "exchange"), MPI_BYTE, peers_[k], kExchangeTag, comm_,
+                      &requests_[k]),
+            "MPI_Isend");
+      ++traffic_.messages, traffic_.message_bytes += out[k].size();
     }
-    check(MPI_Neighbor_alltoall(send_counts_.data(), 1, MPI_INT, recv_counts_.data(), 1, MPI_INT, graph_),
-          "MPI_Neighbor_alltoall");
-    std::size_t total = 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      recv_displs_[k] = as_int(total, "exchange");
-      total += static_cast<std::size_t>(recv_counts_[k]);
-    }
-    recv_.resize(total);
-    check(MPI_Neighbor_alltoallv(send_.data(), send_counts_.data(), send_displs_.data(), MPI_BYTE, recv_.data(),
-                                 recv_counts_.data(), recv_displs_.data(), MPI_BYTE, graph_),
-          "MPI_Neighbor_alltoallv");
     in.resize(n);
-    for (std::size_t k = 0; k < n; ++k)
-      in[k].assign(recv_.begin() + recv_displs_[k], recv_.begin() + recv_displs_[k] + recv_counts_[k]);
+    for (std::size_t k = 0; k < n; ++k) {
+      MPI_Message message;
+      MPI_Status status;
+      check(MPI_Mprobe(peers_[k], kExchangeTag, comm_, &message, &status), "MPI_Mprobe");
+      int count = 0;
+      check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
+      in[k].resize(static_cast<std::size_t>(count));
+      check(MPI_Mrecv(in[k].data(), count, MPI_BYTE, &message, MPI_STATUS_IGNORE), "MPI_Mrecv");
+    }
+    check(MPI_Waitall(static_cast<int>(n), requests_.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   }
 
   std::vector<Bytes> gather(Bytes mine) override {
@@ -147,12 +138,10 @@ class MpiComm final : public Comm {
     ++traffic_.collectives;
     traffic_.collective_bytes += bytes;
   }
-  MPI_Comm comm_ = MPI_COMM_NULL, graph_ = MPI_COMM_NULL;
+  MPI_Comm comm_ = MPI_COMM_NULL;
   int rank_ = 0, size_ = 1;
   std::vector<int> peers_;
-  // The exchanges' scratch, kept from call to call.
-  Bytes send_, recv_;
-  std::vector<int> send_counts_, recv_counts_, send_displs_, recv_displs_;
+  std::vector<MPI_Request> requests_;  // the exchange's sends, kept from call to call
 };
 
 }  // namespace

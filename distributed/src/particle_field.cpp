@@ -12,6 +12,7 @@
 // the one-process geometry: a bucket here holds a subset of the one-process bucket, in the
 // same order, and what it lacks lies beyond the radius, which the one-process loop skips.
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -75,8 +76,10 @@ class DecomposedParticleField final : public CueField {
         neighbours_(d.neighbours(rank_)),
         peer_of_(static_cast<std::size_t>(d.ranks), -1),
         width_(d.particle_halo),
+        inner_margin_(d.inner_margin()),
         report_(report) {
     for (std::size_t k = 0; k < neighbours_.size(); ++k) peer_of_[neighbours_[k]] = static_cast<int>(k);
+    for (int r = 0; r < d.ranks; ++r) adjacent_.push_back(d.neighbours(r)), bounds_.push_back(d.bounds(r));
     grid_.reserve_starts(geometry_, use_grid_);
     if (use_estimate_) {
       estimate_.assign(2 * cues_.size() * mesh_.nodes, 0.0);
@@ -99,19 +102,19 @@ class DecomposedParticleField final : public CueField {
     }
     {
       ScopedPhase p(times, step, "particles.migrate");
-      migrate();
+      redistribute(use_grid_);
     }
     if (use_grid_) {
       ScopedPhase p(times, step, "particles.grid");
-      refresh_halo();
+      build_local();
       grid_.build(geometry_, local_pos_, local_source_);
     }
     if (params_.collisions) {
       ScopedPhase p(times, step, "particles.collide");
       collide();
-      migrate();
-      if (gathers_) {  // the one-process grid after the collisions is read only by gathers
-        refresh_halo();
+      redistribute(gathers_);  // the one-process grid after the collisions is read only by gathers
+      if (gathers_) {
+        build_local();
         grid_.build(geometry_, local_pos_, local_source_);
       }
     }
@@ -214,8 +217,9 @@ class DecomposedParticleField final : public CueField {
  private:
   std::size_t buffers_bytes() const {
     std::size_t n = arrivals_.capacity() * sizeof(Migrant) + halo_.capacity() * sizeof(HaloParticle);
-    for (const Bytes& b : out_) n += b.capacity();
-    for (const Bytes& b : in_) n += b.capacity();
+    for (const auto* buffers : {&moving_, &near_, &out_, &in_})
+      for (const Bytes& b : *buffers) n += b.capacity();
+    n += self_halo_.capacity() * sizeof(HaloParticle);
     return n;
   }
 
@@ -250,49 +254,117 @@ class DecomposedParticleField final : public CueField {
     if (ballistic_) c.apply(vel_, vel_scratch_);
   }
 
-  // Particles whose position left the block go to its owner: a neighbour by the neighbour
-  // exchange, any other rank (a Brownian step has no bound) by an all-gather that is empty
-  // but for such rare jumps. Arrivals are merged in by id.
-  void migrate() {
-    std::vector<Bytes>& out = out_;
-    out.resize(neighbours_.size());
-    for (Bytes& b : out) b.clear();
+  // After a move or a collision push, in one neighbour exchange: the particles that left
+  // this block go to their new owner and, when gathers read particles (with_halo), every
+  // rank receives the particles within the halo width of its block that other ranks own.
+  // A rank sends each neighbour the particles it gives that neighbour, then those it keeps
+  // or gives to a third rank that lie near that neighbour (the sender knows every
+  // position), so that halo and migration cost one round, not two. A particle whose new
+  // owner, or a rank near it, is not adjacent to this block (a Brownian step has no bound)
+  // goes to every rank by an all-gather, empty but for such rare jumps, and each rank
+  // takes it as its own or as halo. Arrivals are merged into this rank's arrays by id; the
+  // halo is kept for build_local().
+  void redistribute(bool with_halo) {
+    const std::size_t peers = neighbours_.size();
+    moving_.resize(peers), near_.resize(peers), out_.resize(peers);
+    for (Bytes& b : moving_) b.clear();
+    for (Bytes& b : near_) b.clear();
     Bytes far;
+    self_halo_.clear();
     std::size_t w = 0;
+    const Decomposition::Bounds& mine = bounds_[static_cast<std::size_t>(rank_)];
     for (std::size_t i = 0; i < pos_.size(); ++i) {
-      const int owner = d_.owner(pos_[i]);
+      const Vec3 x = pos_[i];
+      // Most particles lie well inside the block: kept, near no other block.
+      const bool inner = inner_margin_ > 0.0 && mine.inner(x, inner_margin_);
+      const int owner = inner ? rank_ : d_.owner(x);
+      const HaloParticle h{x, id_[i], source_[i]};
       if (owner == rank_) {
         if (w != i) {
-          pos_[w] = pos_[i], id_[w] = id_[i], source_[w] = source_[i];
+          pos_[w] = x, id_[w] = id_[i], source_[w] = source_[i];
           if (ballistic_) vel_[w] = vel_[i];
         }
         ++w;
+        if (with_halo && !inner && mine.near_boundary(x, width_))
+          for (std::size_t k = 0; k < peers; ++k)
+            if (bounds_[static_cast<std::size_t>(neighbours_[k])].near(x, width_)) append(near_[k], &h, 1);
         continue;
       }
-      const Migrant m{pos_[i], ballistic_ ? vel_[i] : Vec3{0, 0, 0}, id_[i], source_[i]};
-      const int peer = peer_of_[static_cast<std::size_t>(owner)];
-      append(peer >= 0 ? out[static_cast<std::size_t>(peer)] : far, &m, 1);
+      const Migrant m{x, ballistic_ ? vel_[i] : Vec3{0, 0, 0}, id_[i], source_[i]};
       ++report_.migrated;
+      // The ranks other than the owner that keep it in their halo, all adjacent to the
+      // owner (the halo is narrower than a block); none when it is far from the owner's faces.
+      near_ranks_.clear();
+      if (with_halo && bounds_[static_cast<std::size_t>(owner)].near_boundary(x, width_))
+        for (int r : adjacent_[static_cast<std::size_t>(owner)])
+          if (bounds_[static_cast<std::size_t>(r)].near(x, width_)) near_ranks_.push_back(r);
+      bool adjacent = peer_of_[static_cast<std::size_t>(owner)] >= 0;
+      for (int r : near_ranks_) adjacent = adjacent && (r == rank_ || peer_of_[static_cast<std::size_t>(r)] >= 0);
+      if (!adjacent) {
+        append(far, &m, 1);
+        ++report_.far_migrated;
+        continue;
+      }
+      append(moving_[static_cast<std::size_t>(peer_of_[static_cast<std::size_t>(owner)])], &m, 1);
+      for (int r : near_ranks_) {
+        if (r == rank_)
+          self_halo_.push_back(h);
+        else
+          append(near_[static_cast<std::size_t>(peer_of_[static_cast<std::size_t>(r)])], &h, 1);
+      }
     }
     pos_.resize(w), id_.resize(w), source_.resize(w);
     if (ballistic_) vel_.resize(w);
-    std::vector<Migrant>& in = arrivals_;
-    std::vector<std::size_t>& ends = ends_;
-    in.clear(), ends.clear();
-    comm_.exchange_into(out, in_);
-    for (const Bytes& from : in_) {
-      for_each_record<Migrant>(from, [&](const Migrant& m) { in.push_back(m); });
-      ends.push_back(in.size());
+
+    // To each neighbour: the migrants' count, the migrants, the halo particles.
+    for (std::size_t k = 0; k < peers; ++k) {
+      const std::uint64_t moving = moving_[k].size() / sizeof(Migrant);
+      out_[k].clear();
+      append(out_[k], &moving, 1);
+      out_[k].insert(out_[k].end(), moving_[k].begin(), moving_[k].end());
+      out_[k].insert(out_[k].end(), near_[k].begin(), near_[k].end());
+      if (!near_[k].empty()) ++report_.halo.messages, report_.halo.message_bytes += near_[k].size();
     }
+    comm_.exchange_into(out_, in_);
+
+    std::vector<Migrant>& arrivals = arrivals_;
+    std::vector<HaloParticle>& halo = halo_;
+    arrivals.clear(), halo.clear(), arrival_ends_.clear(), halo_ends_.clear();
+    for (const Bytes& from : in_) {
+      std::uint64_t moving = 0;
+      std::memcpy(&moving, from.data(), sizeof moving);
+      const std::size_t split = sizeof moving + moving * sizeof(Migrant);
+      append_records(from, sizeof moving, split, arrivals);
+      append_records(from, split, from.size(), halo);
+      arrival_ends_.push_back(arrivals.size()), halo_ends_.push_back(halo.size());
+    }
+    halo.insert(halo.end(), self_halo_.begin(), self_halo_.end());
+    halo_ends_.push_back(halo.size());
     for (const Bytes& from : comm_.allgather(far)) {
       for_each_record<Migrant>(from, [&](const Migrant& m) {
-        if (d_.owner(m.pos) == rank_) in.push_back(m);
+        if (d_.owner(m.pos) == rank_)
+          arrivals.push_back(m);
+        else if (with_halo && mine.near(m.pos, width_))
+          halo.push_back({m.pos, m.id, m.cue});
       });
-      ends.push_back(in.size());
+      arrival_ends_.push_back(arrivals.size()), halo_ends_.push_back(halo.size());
     }
-    if (in.empty()) return;
-    merge_runs(in, ends);
-    merge_arrivals(in);
+    if (!arrivals.empty()) {
+      merge_runs(arrivals, arrival_ends_);
+      merge_arrivals(arrivals);
+    }
+    if (with_halo) {
+      merge_runs(halo, halo_ends_);
+      report_.halo_particles += halo.size();
+    }
+  }
+
+  // Records of type T in bytes [from, to) of a message, appended to v.
+  template <class T>
+  static void append_records(const Bytes& in, std::size_t from, std::size_t to, std::vector<T>& v) {
+    const std::size_t at = v.size(), n = (to - from) / sizeof(T);
+    v.resize(at + n);
+    if (n) std::memcpy(static_cast<void*>(v.data() + at), in.data() + from, n * sizeof(T));
   }
 
   void merge_arrivals(const std::vector<Migrant>& in) {
@@ -315,30 +387,10 @@ class DecomposedParticleField final : public CueField {
     if (ballistic_) vel_.swap(vel_scratch_);
   }
 
-  // The neighbours' particles within the halo width of this block, merged with this rank's
-  // by id into the arrays the hashed grid is built over; local_slot_[i] is particle i's
-  // slot there.
-  void refresh_halo() {
-    const Traffic before = comm_.traffic();
-    std::vector<Bytes>& out = out_;
-    out.resize(neighbours_.size());
-    for (Bytes& b : out) b.clear();
-    for (std::size_t i = 0; i < pos_.size(); ++i) {
-      if (!d_.near_boundary(rank_, pos_[i], width_)) continue;
-      const HaloParticle h{pos_[i], id_[i], source_[i]};
-      for (std::size_t k = 0; k < neighbours_.size(); ++k)
-        if (d_.near(neighbours_[k], pos_[i], width_)) append(out[k], &h, 1);
-    }
-    std::vector<HaloParticle>& halo = halo_;
-    std::vector<std::size_t>& ends = ends_;
-    halo.clear(), ends.clear();
-    comm_.exchange_into(out, in_);
-    for (const Bytes& from : in_) {
-      for_each_record<HaloParticle>(from, [&](const HaloParticle& h) { halo.push_back(h); });
-      ends.push_back(halo.size());
-    }
-    merge_runs(halo, ends);
-    report_.halo_particles += halo.size();
+  // This rank's particles and the halo merged by id into the arrays the hashed grid is built
+  // over; local_slot_[i] is particle i's slot there.
+  void build_local() {
+    const std::vector<HaloParticle>& halo = halo_;
     const std::size_t n = pos_.size() + halo.size();
     local_pos_.resize(n), local_source_.resize(n), local_slot_.resize(pos_.size());
     std::size_t a = 0, b = 0;
@@ -352,9 +404,6 @@ class DecomposedParticleField final : public CueField {
         ++b;
       }
     }
-    const Traffic spent = comm_.traffic() - before;
-    report_.halo.messages += spent.messages, report_.halo.message_bytes += spent.message_bytes;
-    report_.halo.collectives += spent.collectives, report_.halo.collective_bytes += spent.collective_bytes;
   }
 
   // Jacobi, as in one process: every particle of this block reads the positions before the
@@ -387,6 +436,7 @@ class DecomposedParticleField final : public CueField {
   std::vector<int> neighbours_;
   std::vector<int> peer_of_;  // rank -> index in neighbours_, -1 when not adjacent
   double width_;              // LU: the halo's width
+  double inner_margin_;       // LU: Bounds::inner's margin (the decomposition's halo, at least width_)
   FieldReport& report_;
   std::uint64_t next_id_ = 0;
   // This rank's particles, in id order.
@@ -404,10 +454,13 @@ class DecomposedParticleField final : public CueField {
   ParticleHashGrid grid_;
   // The exchanges' buffers, kept from step to step (their capacity is memory already
   // touched; fresh buffers each step made page faults the halo's largest cost).
-  std::vector<Bytes> out_, in_;
+  std::vector<Bytes> moving_, near_, out_, in_;  // per neighbour: migrants, halo, the message; received
   std::vector<Migrant> arrivals_;
-  std::vector<HaloParticle> halo_;
-  std::vector<std::size_t> ends_;
+  std::vector<HaloParticle> halo_, self_halo_;  // the halo; the particles this rank sent away but keeps near
+  std::vector<std::size_t> arrival_ends_, halo_ends_;
+  std::vector<int> near_ranks_;
+  std::vector<std::vector<int>> adjacent_;  // every rank's neighbours
+  std::vector<Decomposition::Bounds> bounds_;  // every rank's block
   // The whole estimate (2 K meshes), the same on every rank.
   std::vector<double> estimate_;
   std::vector<std::uint64_t> deposit_;

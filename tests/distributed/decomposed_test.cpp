@@ -268,6 +268,31 @@ TEST(decomposed, ParticleAndGridScenesOnOneTwoFourAndEightRanks) {
   }
 }
 
+// Brownian jumps longer than a block (a diffusion coefficient that moves a particle about a
+// block's edge a step), over 3 and 6 ranks, whose outer blocks are not adjacent: the
+// particles that jump past the neighbours, or land near a rank that is not the sender's
+// neighbour, go by the all-gather, and each rank takes them as its own or into its halo.
+// Every file is the one-process file, with gathers and with collisions.
+TEST(decomposed, ParticlesJumpingPastTheNeighboursReachOwnerAndHalo) {
+  for (const bool collisions : {false, true}) {
+    Scene s = golden_scene("particles-source-vector-sum");
+    s.steps = 12;
+    s.neurons.count = 150;
+    s.cues.particles.collisions = collisions;
+    for (Source& src : s.cues.sources) src.diffusion = 2.0;
+    const auto expected = one_process(s);
+    for (int ranks : {3, 6}) {
+      test::TempDir dir;
+      const nlohmann::json facts = run_decomposed(s, ranks, dir.path());
+      EXPECT_EQ(test::output_hashes(dir.path()), expected) << ranks << " ranks, collisions " << collisions;
+      const nlohmann::json& f = facts["per_step"];
+      EXPECT_GT(f["far_particles"].get<double>(), 0.0) << facts.dump();
+      EXPECT_LT(f["far_particles"].get<double>(), f["migrated_particles"].get<double>()) << facts.dump();
+      EXPECT_GT(f["halo_particles"].get<double>(), 0.0) << facts.dump();
+    }
+  }
+}
+
 // A bigger run, with a fixed rank count per case: every file, and migration really
 // happening (the facts count the axons sent to neighbours).
 TEST(decomposed, DefaultSizedDirectRunOnOneTwoFourAndEightRanks) {
@@ -483,6 +508,45 @@ TEST(decomposed, BlocksAreTheMostCubicFactorisation) {
     EXPECT_EQ(d.owner({-1e9, -1e9, -1e9}), 0);
     EXPECT_EQ(d.owner({1e9, 1e9, 1e9}), k - 1);
     EXPECT_TRUE(d.near(0, {-1e9, 0, 0}, 0.0));
+  }
+}
+
+// The particle field's fast path: a point that Bounds::inner puts inside a block, farther
+// than the margin from its shared faces, is owned by that block (block_of's divisions agree)
+// and is near no shared face at any width up to the margin, at every scale of the domain and
+// for points within a few ulps of the margin, either side.
+RC_GTEST_PROP(decomposed, InnerPointsAreOwnedAndNearNoOtherBlock, ()) {
+  distributed::Decomposition d;
+  d.blocks = {*rc::gen::inRange(1, 5), *rc::gen::inRange(1, 5), *rc::gen::inRange(1, 5)};
+  d.ranks = d.blocks[0] * d.blocks[1] * d.blocks[2];
+  d.half = *rc::gen::element(0.7, 3.0, 1e3, 1e6) * (1.0 + *rc::gen::inRange(0, 1000) / 997.0);
+  for (int a = 0; a < 3; ++a) d.edge[a] = 2.0 * d.half / d.blocks[a];
+  const double shortest = *std::min_element(d.edge.begin(), d.edge.end());
+  d.halo = shortest * *rc::gen::element(1e-7, 1e-3, 0.1, 0.5, 1.0);
+  const double margin = d.inner_margin();
+  RC_ASSERT(margin == d.halo);
+  const int rank = *rc::gen::inRange(0, d.ranks);
+  const distributed::Decomposition::Bounds b = d.bounds(rank);
+  for (int t = 0; t < 64; ++t) {
+    double c[3];
+    for (int a = 0; a < 3; ++a) {
+      const int kind = *rc::gen::inRange(0, 4);
+      const double ulps = static_cast<double>(*rc::gen::inRange(-6, 7));
+      if (kind == 0)  // anywhere in and around the block
+        c[a] = b.lo[a] - d.edge[a] + 3.0 * d.edge[a] * *rc::gen::inRange(0, 10001) / 10000.0;
+      else if (kind == 1)  // at the margin from the lower face
+        c[a] = (b.lo[a] + margin) * (1.0 + ulps * 0x1p-52);
+      else if (kind == 2)  // at the margin from the upper face
+        c[a] = (b.hi[a] - margin) * (1.0 + ulps * 0x1p-52);
+      else  // on a face
+        c[a] = (*rc::gen::arbitrary<bool>() ? b.lo[a] : b.hi[a]) * (1.0 + ulps * 0x1p-52);
+    }
+    const Vec3 p{c[0], c[1], c[2]};
+    if (!b.inner(p, margin)) continue;
+    RC_ASSERT(d.owner(p) == rank);
+    RC_ASSERT(!b.near_boundary(p, margin));
+    RC_ASSERT(!d.near_boundary(rank, p, margin * *rc::gen::element(0.0, 0.5, 1.0)));
+    for (int q : d.neighbours(rank)) RC_ASSERT(!d.near(q, p, margin));
   }
 }
 

@@ -17,8 +17,8 @@ namespace axg::distributed {
 
 using Bytes = std::vector<std::byte>;
 
-// What this rank sent: point-to-point messages with a payload (neighbour exchanges, the
-// gather to rank 0) and collective calls (reductions, all-gathers, the exchanges' counts),
+// What this rank sent: point-to-point messages (the neighbour exchanges send one to each
+// peer, empty or not; the gather to rank 0) and collective calls (reductions, all-gathers),
 // with their bytes.
 struct Traffic {
   std::uint64_t messages = 0, message_bytes = 0;

@@ -33,6 +33,7 @@ namespace axg::distributed {
 // This rank's field counts, summed over its steps (the run facts).
 struct FieldReport {
   std::uint64_t migrated = 0;        // particles sent to another block
+  std::uint64_t far_migrated = 0;    // of those, sent by the all-gather (a jump past the neighbours)
   std::uint64_t halo_particles = 0;  // particles received into the halo
   std::uint64_t owned_particles = 0; // particles owned after each advance
   std::uint64_t ghost_values = 0;    // grid values received into ghost planes

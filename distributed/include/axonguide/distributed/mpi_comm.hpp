@@ -1,7 +1,8 @@
 #pragma once
 // The decomposed run's messages over MPI_COMM_WORLD (Open MPI): all-gathers and reductions
-// as MPI collectives, the neighbour exchange as MPI_Neighbor_alltoall(v) over a distributed
-// graph of the adjacent blocks, and the gather to rank 0 as point-to-point messages of at
+// as MPI collectives, the neighbour exchange as one message to and one from each adjacent
+// block (MPI_Isend, and MPI_Mprobe/MPI_Mrecv in peer order, so a message carries its own
+// size), and the gather to rank 0 as point-to-point messages of at
 // most 1 GiB (so a result over 2^31 bytes still arrives). Every MPI error becomes a
 // RunError naming the call. Defined only in builds with MPI (AXG_HAVE_MPI).
 #include <memory>

@@ -262,6 +262,7 @@ Job resume_job(const RunArgs& args, const fs::path& dir) {
 struct Ranks {
   distributed::Comm& comm;
   std::unique_ptr<distributed::DecomposedRun> run;
+  std::string pml;  // Open MPI's messaging layer, as the session chose it (the run facts)
   bool root() const { return comm.root(); }
   std::uint64_t most(std::uint64_t v) {
     std::vector<std::uint64_t> x{v};
@@ -479,7 +480,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
   try {
     result = with_threads(threads, [&] {
       RunResult r = run_scene(scene, options);
-      if (ranks) r.decomposition = ranks->run->facts();
+      if (ranks) r.decomposition = ranks->run->facts(), r.decomposition["mpi_pml"] = ranks->pml;
       writing = true;
       if (root) write_outputs(r, dir, args.backend, threads, job.warnings);
       return r;
@@ -578,7 +579,7 @@ int cmd_run(const RunArgs& args) {
                    launch.size, distributed::mpi_library().c_str(), comm->size(), distributed::mpi_library().c_str());
     return kExitCannotRun;
   }
-  Ranks ranks{*comm, nullptr};
+  Ranks ranks{*comm, nullptr, session.pml};
   try {
     session.exit_code = run_job(args, &ranks, threads);
   } catch (const QuietExit& e) {

@@ -6,6 +6,7 @@
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include <fmt/format.h>
@@ -179,6 +180,16 @@ void init_failed_at_exit() {
 }  // namespace
 
 MpiSession::MpiSession() {
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (const char* chosen = std::getenv("OMPI_MCA_pml"); chosen && *chosen) {
+    pml = std::string(chosen) + " (OMPI_MCA_pml or --mca pml)";
+  } else if (size && local && std::strcmp(size, local) == 0) {
+    setenv("OMPI_MCA_pml", "ob1", 0);
+    pml = "ob1 (every rank on one node)";
+  } else {
+    pml = "the library's choice";
+  }
   int provided = 0;
   g_starting = true;
   std::atexit(init_failed_at_exit);

@@ -5,7 +5,8 @@
 #    direct guidance (with paths, SWC and SONATA), the analytic field with growth-rate
 #    modulation, the imposed field in physical units, the particle field (Brownian with
 #    the estimate; ballistic with collisions; the gathers of source_vector_sum) and the grid
-#    field (implicit absorbing, explicit reflecting); the manifest records the blocks;
+#    field (implicit absorbing, explicit reflecting); the manifest records the blocks, and
+#    the messaging layer (ob1 when every rank is on this node, unless the user chose one);
 #  - a signal to one rank stops every rank at the same step with a checkpoint (exit 143),
 #    and a kill -9 of one rank ends the job; either run resumes on another rank count to the
 #    one-process bytes; so do particle and grid runs whose rank was killed;
@@ -72,6 +73,16 @@ assert d['ranks']==$k and d['blocks'][0]*d['blocks'][1]*d['blocks'][2]==$k, d" |
   done
   echo "$scene: mpirun -np 1, 2, 4 wrote the one-process files byte for byte"
 done
+
+# Every rank on one node and no messaging layer chosen: Open MPI's shared-memory path (pml
+# ob1), said in the facts; a layer the user chose stands, and gives the same bytes.
+pml() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['decomposition']['mpi_pml'])" "$1"; }
+[ "$(pml np2-direct/manifest.json)" = "ob1 (every rank on one node)" ] || fail "np2-direct: mpi_pml is $(pml np2-direct/manifest.json)"
+timeout 300 "${mpi[@]}" --mca pml ob1 --mca btl self,vader -np 2 "$exe" run direct.json --out np2-chosen -q ||
+  fail "mpirun --mca pml ob1 exited $?"
+same one-direct np2-chosen
+case "$(pml np2-chosen/manifest.json)" in "ob1 (OMPI_MCA_pml or --mca pml)") ;; *) fail "np2-chosen: mpi_pml is $(pml np2-chosen/manifest.json)";; esac
+echo "messaging layer: ob1 on one node unless chosen; a chosen one stands"
 
 # Interrupted on one rank: all stop after the same step, with a checkpoint; resumed on 4.
 echo '{"neurons": {"count": 3000, "region": {"radius": 9}}, "guidance": {"model": "direct"}, "steps": 60,

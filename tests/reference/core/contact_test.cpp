@@ -94,6 +94,27 @@ RC_GTEST_PROP(contact, GridSearchEqualsBruteForce, ()) {
   }
 }
 
+// The cells' index (pencils of kCellTile x kCellTile rows) numbers every cell of any grid
+// once, within [0, nx ny nz), and keeps each row's cells consecutive along x, which the
+// contact search's runs [x0, x1] rely on; grids smaller and larger than a tile, with partial
+// tiles along y and z.
+RC_GTEST_PROP(cellgrid, CellIndexIsABijectionWithConsecutiveRows, ()) {
+  const int nx = *rc::gen::inRange(1, 20), ny = *rc::gen::inRange(1, 30), nz = *rc::gen::inRange(1, 30);
+  const std::size_t cells = static_cast<std::size_t>(nx) * ny * nz;
+  std::vector<int> seen(cells, 0);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y) {
+      const std::uint32_t row = cell_index(0, y, z, nx, ny, nz);
+      for (int x = 0; x < nx; ++x) {
+        const std::uint32_t c = cell_index(x, y, z, nx, ny, nz);
+        RC_ASSERT(c == row + static_cast<std::uint32_t>(x));
+        RC_ASSERT(c < cells);
+        ++seen[c];
+      }
+    }
+  for (int v : seen) RC_ASSERT(v == 1);
+}
+
 TEST(growth, StatusesOfOneStep) {
   const std::vector<Vec3> somas{{0, 0, 0}, {1, 0, 0}};
   const CellGrid grid = build_cell_grid(cube_geometry(3, 0.5, 2), somas);

@@ -68,7 +68,7 @@ AXG_HDI Contact find_contact(std::uint32_t self, Vec3 a, Vec3 s, double r, doubl
   const double reach2 = reach * reach * (1.0 + 1e-12);
   for (int z = z0; z <= z1; ++z) {
     for (int y = y0; y <= y1; ++y) {
-      const std::uint32_t row = cell_index(x0, y, z, g.nx, g.ny);
+      const std::uint32_t row = cell_index(x0, y, z, g.nx, g.ny, g.nz);
       const std::uint32_t begin = g.cell_start[row];
       const std::uint32_t end = g.cell_start[row + static_cast<std::uint32_t>(x1 - x0) + 1];
       for (std::uint32_t k = begin; k < end; ++k) {

@@ -77,6 +77,7 @@ class DecomposedParticleField final : public CueField {
         peer_of_(static_cast<std::size_t>(d.ranks), -1),
         width_(d.particle_halo),
         inner_margin_(d.inner_margin()),
+        rounding_margin_(d.rounding_margin()),
         report_(report) {
     for (std::size_t k = 0; k < neighbours_.size(); ++k) peer_of_[neighbours_[k]] = static_cast<int>(k);
     for (int r = 0; r < d.ranks; ++r) adjacent_.push_back(d.neighbours(r)), bounds_.push_back(d.bounds(r));
@@ -217,8 +218,10 @@ class DecomposedParticleField final : public CueField {
  private:
   std::size_t buffers_bytes() const {
     std::size_t n = arrivals_.capacity() * sizeof(Migrant) + halo_.capacity() * sizeof(HaloParticle);
-    for (const auto* buffers : {&moving_, &near_, &out_, &in_})
+    for (const auto* buffers : {&out_, &in_})
       for (const Bytes& b : *buffers) n += b.capacity();
+    for (const auto& v : moving_) n += v.capacity() * sizeof(Migrant);
+    for (const auto& v : near_) n += v.capacity() * sizeof(HaloParticle);
     n += self_halo_.capacity() * sizeof(HaloParticle);
     return n;
   }
@@ -267,8 +270,8 @@ class DecomposedParticleField final : public CueField {
   void redistribute(bool with_halo) {
     const std::size_t peers = neighbours_.size();
     moving_.resize(peers), near_.resize(peers), out_.resize(peers);
-    for (Bytes& b : moving_) b.clear();
-    for (Bytes& b : near_) b.clear();
+    for (auto& v : moving_) v.clear();
+    for (auto& v : near_) v.clear();
     Bytes far;
     self_halo_.clear();
     std::size_t w = 0;
@@ -277,7 +280,7 @@ class DecomposedParticleField final : public CueField {
       const Vec3 x = pos_[i];
       // Most particles lie well inside the block: kept, near no other block.
       const bool inner = inner_margin_ > 0.0 && mine.inner(x, inner_margin_);
-      const int owner = inner ? rank_ : d_.owner(x);
+      const int owner = inner || mine.inner(x, rounding_margin_) ? rank_ : d_.owner(x);
       const HaloParticle h{x, id_[i], source_[i]};
       if (owner == rank_) {
         if (w != i) {
@@ -287,7 +290,7 @@ class DecomposedParticleField final : public CueField {
         ++w;
         if (with_halo && !inner && mine.near_boundary(x, width_))
           for (std::size_t k = 0; k < peers; ++k)
-            if (bounds_[static_cast<std::size_t>(neighbours_[k])].near(x, width_)) append(near_[k], &h, 1);
+            if (bounds_[static_cast<std::size_t>(neighbours_[k])].near(x, width_)) near_[k].push_back(h);
         continue;
       }
       const Migrant m{x, ballistic_ ? vel_[i] : Vec3{0, 0, 0}, id_[i], source_[i]};
@@ -305,12 +308,12 @@ class DecomposedParticleField final : public CueField {
         ++report_.far_migrated;
         continue;
       }
-      append(moving_[static_cast<std::size_t>(peer_of_[static_cast<std::size_t>(owner)])], &m, 1);
+      moving_[static_cast<std::size_t>(peer_of_[static_cast<std::size_t>(owner)])].push_back(m);
       for (int r : near_ranks_) {
         if (r == rank_)
           self_halo_.push_back(h);
         else
-          append(near_[static_cast<std::size_t>(peer_of_[static_cast<std::size_t>(r)])], &h, 1);
+          near_[static_cast<std::size_t>(peer_of_[static_cast<std::size_t>(r)])].push_back(h);
       }
     }
     pos_.resize(w), id_.resize(w), source_.resize(w);
@@ -318,12 +321,13 @@ class DecomposedParticleField final : public CueField {
 
     // To each neighbour: the migrants' count, the migrants, the halo particles.
     for (std::size_t k = 0; k < peers; ++k) {
-      const std::uint64_t moving = moving_[k].size() / sizeof(Migrant);
+      const std::uint64_t moving = moving_[k].size();
       out_[k].clear();
       append(out_[k], &moving, 1);
-      out_[k].insert(out_[k].end(), moving_[k].begin(), moving_[k].end());
-      out_[k].insert(out_[k].end(), near_[k].begin(), near_[k].end());
-      if (!near_[k].empty()) ++report_.halo.messages, report_.halo.message_bytes += near_[k].size();
+      append(out_[k], moving_[k]);
+      append(out_[k], near_[k]);
+      const std::size_t halo_bytes = near_[k].size() * sizeof(HaloParticle);
+      if (halo_bytes) ++report_.halo.messages, report_.halo.message_bytes += halo_bytes;
     }
     comm_.exchange_into(out_, in_);
 
@@ -437,6 +441,7 @@ class DecomposedParticleField final : public CueField {
   std::vector<int> peer_of_;  // rank -> index in neighbours_, -1 when not adjacent
   double width_;              // LU: the halo's width
   double inner_margin_;       // LU: Bounds::inner's margin (the decomposition's halo, at least width_)
+  double rounding_margin_;    // LU: within the block by more than this, a particle is this rank's
   FieldReport& report_;
   std::uint64_t next_id_ = 0;
   // This rank's particles, in id order.
@@ -454,7 +459,9 @@ class DecomposedParticleField final : public CueField {
   ParticleHashGrid grid_;
   // The exchanges' buffers, kept from step to step (their capacity is memory already
   // touched; fresh buffers each step made page faults the halo's largest cost).
-  std::vector<Bytes> moving_, near_, out_, in_;  // per neighbour: migrants, halo, the message; received
+  std::vector<std::vector<Migrant>> moving_;  // per neighbour: the migrants,
+  std::vector<std::vector<HaloParticle>> near_;  // the halo particles,
+  std::vector<Bytes> out_, in_;                  // the message; what it sent
   std::vector<Migrant> arrivals_;
   std::vector<HaloParticle> halo_, self_halo_;  // the halo; the particles this rank sent away but keeps near
   std::vector<std::size_t> arrival_ends_, halo_ends_;

@@ -97,9 +97,12 @@ struct Decomposition {
     }
     return out;
   }
-  // The margin for Bounds::inner: the halo, when it exceeds block_of's rounding (a few ulps
-  // of the domain's size) a million times over; 0 (no fast path) otherwise.
-  double inner_margin() const { return halo > 1e-9 * (half + 1.0) ? halo : 0.0; }
+  // A margin a million times block_of's rounding (a few ulps of the domain's size): a point
+  // Bounds::inner puts this far inside a block is that block's.
+  double rounding_margin() const { return 1e-9 * (half + 1.0); }
+  // The margin for Bounds::inner that also rules out the halo: the halo, when it exceeds
+  // the rounding margin; 0 (no fast path) otherwise.
+  double inner_margin() const { return halo > rounding_margin() ? halo : 0.0; }
   bool near(int rank, core::Vec3 p, double width) const { return bounds(rank).near(p, width); }
   bool near_boundary(int rank, core::Vec3 p, double width) const { return bounds(rank).near_boundary(p, width); }
   // The ranks of the blocks adjacent to rank's (faces, edges and corners), ascending.

@@ -37,7 +37,7 @@ struct MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
   bool rank_died = false;
   int exit_code = 0;
-  std::string pml;  // "ob1 (every rank on one node)", "ucx (OMPI_MCA_pml)", or "the library's choice"
+  std::string pml;  // "ob1 (every rank on one node)", "<layer> (OMPI_MCA_pml or --mca pml)", or "the library's choice"
 };
 #else
 struct MpiSession {  // a build without MPI: nothing to start or end

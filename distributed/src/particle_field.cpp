@@ -81,6 +81,11 @@ class DecomposedParticleField final : public CueField {
         report_(report) {
     for (std::size_t k = 0; k < neighbours_.size(); ++k) peer_of_[neighbours_[k]] = static_cast<int>(k);
     for (int r = 0; r < d.ranks; ++r) adjacent_.push_back(d.neighbours(r)), bounds_.push_back(d.bounds(r));
+    for (const core::CueParams& cue : cues_) {  // the source's owner among them (its block is near)
+      makers_.emplace_back();
+      for (int r = 0; r < d.ranks; ++r)
+        if (bounds_[static_cast<std::size_t>(r)].near(cue.position, d.halo)) makers_.back().push_back(r);
+    }
     grid_.reserve_starts(geometry_, use_grid_);
     if (use_estimate_) {
       estimate_.assign(2 * cues_.size() * mesh_.nodes, 0.0);
@@ -232,14 +237,19 @@ class DecomposedParticleField final : public CueField {
     return e;
   }
 
-  // Every rank counts every emission (the ids); the source's owner makes the particles.
+  // Every rank counts every emission (the ids). The ranks whose blocks lie within the halo
+  // of a source share its new particles by id (particle id goes to makers[id mod m]): a
+  // particle's motion is a function of (seed, id, step, state), so any rank may make and
+  // move it, and the migration that follows gives it to its owner. A source on a cut (the
+  // centre of a domain cut in halves) would otherwise load its owner alone with every new
+  // particle's first move.
   void emit(std::uint32_t step) {
     for (std::size_t k = 0; k < cues_.size(); ++k) {
       const std::uint32_t count = core::emitted_at(cues_[k].emission, step);
-      const bool mine = d_.owner(cues_[k].position) == rank_;
+      const std::vector<int>& makers = makers_[k];
       for (std::uint32_t j = 0; j < count; ++j) {
         const std::uint64_t id = next_id_++;
-        if (!mine) continue;
+        if (makers[id % makers.size()] != rank_) continue;
         pos_.push_back(cues_[k].position);
         id_.push_back(id);
         source_.push_back(static_cast<std::uint16_t>(k));
@@ -468,6 +478,7 @@ class DecomposedParticleField final : public CueField {
   std::vector<int> near_ranks_;
   std::vector<std::vector<int>> adjacent_;  // every rank's neighbours
   std::vector<Decomposition::Bounds> bounds_;  // every rank's block
+  std::vector<std::vector<int>> makers_;       // per cue: the ranks that make its particles, ascending
   // The whole estimate (2 K meshes), the same on every rank.
   std::vector<double> estimate_;
   std::vector<std::uint64_t> deposit_;

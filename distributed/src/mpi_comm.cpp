@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "axonguide/distributed/launch.hpp"
 #include "axonguide/error.hpp"
 
 namespace axg::distributed {
@@ -207,6 +208,7 @@ MpiSession::~MpiSession() {
     std::fflush(stderr);
     std::_Exit(exit_code);
   }
+  no_delay_on_loopback_sockets();  // launch.hpp: PMIx's messages in MPI_Finalize, without 40 ms stalls
   MPI_Finalize();
 }
 

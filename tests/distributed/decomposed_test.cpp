@@ -11,7 +11,11 @@
 //  - a checkpoint taken by K ranks resumes on K' ranks (or one process) to the same bytes;
 //  - decompositions that cannot proceed are refused with the message of the issue.
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <rapidcheck/gtest.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <optional>
@@ -21,6 +25,7 @@
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/core/random.hpp"
 #include "axonguide/distributed/decomposed_run.hpp"
+#include "axonguide/distributed/launch.hpp"
 #include "axonguide/distributed/local_group.hpp"
 #include "axonguide/distributed/placement.hpp"
 #include "axonguide/json_input.hpp"
@@ -509,6 +514,41 @@ TEST(decomposed, BlocksAreTheMostCubicFactorisation) {
     EXPECT_EQ(d.owner({1e9, 1e9, 1e9}), k - 1);
     EXPECT_TRUE(d.near(0, {-1e9, 0, 0}, 0.0));
   }
+}
+
+// MpiSession's remedy for PMIx's stalls in MPI_Finalize: TCP_NODELAY on the sockets to a
+// loopback peer (both ends of a connection here), and on no other socket.
+TEST(decomposed, NoDelayIsSetOnLoopbackSocketsOnly) {
+  auto no_delay = [](int fd) {
+    int v = -1;
+    socklen_t len = sizeof v;
+    return getsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &v, &len) == 0 ? v : -1;
+  };
+  const int listener = socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(listener, 0);
+  sockaddr_in at{};
+  at.sin_family = AF_INET;
+  at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof at;
+  ASSERT_EQ(bind(listener, reinterpret_cast<sockaddr*>(&at), sizeof at), 0);
+  ASSERT_EQ(listen(listener, 1), 0);
+  ASSERT_EQ(getsockname(listener, reinterpret_cast<sockaddr*>(&at), &len), 0);
+  const int client = socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_EQ(connect(client, reinterpret_cast<sockaddr*>(&at), sizeof at), 0);
+  const int server = accept(listener, nullptr, nullptr);
+  ASSERT_GE(server, 0);
+  const int unconnected = socket(AF_INET, SOCK_STREAM, 0);  // no peer: left alone
+  int pair[2];
+  ASSERT_EQ(socketpair(AF_UNIX, SOCK_STREAM, 0, pair), 0);  // not TCP: left alone
+  EXPECT_EQ(no_delay(client), 0);
+  EXPECT_EQ(no_delay(server), 0);
+
+  EXPECT_EQ(distributed::no_delay_on_loopback_sockets(), 2);
+  EXPECT_EQ(no_delay(client), 1);
+  EXPECT_EQ(no_delay(server), 1);
+  EXPECT_EQ(no_delay(unconnected), 0);
+  EXPECT_EQ(no_delay(listener), 0);
+  for (int fd : {listener, client, server, unconnected, pair[0], pair[1]}) close(fd);
 }
 
 // The particle field's fast path: a point that Bounds::inner puts inside a block, farther

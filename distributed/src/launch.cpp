@@ -20,9 +20,6 @@ int env_int(std::initializer_list<const char*> names, int fallback) {
     if (const char* v = std::getenv(n); v && *v) return std::atoi(v);
   return fallback;
 }
-}  // namespace
-
-namespace {
 
 bool loopback_peer(int fd) {
   sockaddr_storage peer{};

@@ -1,7 +1,7 @@
 // The particle field over ranks (fields.hpp; docs/scaling.md §2.4). Each step runs the
 // one-process stages on this rank's particles, in the one-process order, with the core
 // functions of reference/src/fields/particle_field.cpp:
-//   emit (the source's owner) -> move -> compact -> migrate
+//   emit (the ranks near the source) -> move -> compact and migrate
 //   -> halo and hashed grid (when gathers need them) -> collisions -> migrate, halo, grid
 //   -> estimate deposits, summed over the ranks, and their fold.
 // Why the bits are the one-process bits: every particle's motion and death is a function of
@@ -18,7 +18,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include "axonguide/compact.hpp"
 #include "axonguide/core/particles.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/distributed/fields.hpp"
@@ -103,12 +102,8 @@ class DecomposedParticleField final : public CueField {
       move_particles(seed_, step, cues_, params_, ballistic_, pos_, vel_, id_, source_, keep_);
     }
     {
-      ScopedPhase p(times, step, "particles.compact");
-      compact();
-    }
-    {
-      ScopedPhase p(times, step, "particles.migrate");
-      redistribute(use_grid_);
+      ScopedPhase p(times, step, "particles.migrate");  // the dead dropped in the same pass
+      redistribute(use_grid_, &keep_);
     }
     if (use_grid_) {
       ScopedPhase p(times, step, "particles.grid");
@@ -258,15 +253,6 @@ class DecomposedParticleField final : public CueField {
     }
   }
 
-  void compact() {
-    StableCompaction c;
-    if (c.plan(keep_) == pos_.size()) return;
-    c.apply(pos_, pos_scratch_);
-    c.apply(id_, id_scratch_);
-    c.apply(source_, source_scratch_);
-    if (ballistic_) c.apply(vel_, vel_scratch_);
-  }
-
   // After a move or a collision push, in one neighbour exchange: the particles that left
   // this block go to their new owner and, when gathers read particles (with_halo), every
   // rank receives the particles within the halo width of its block that other ranks own.
@@ -276,8 +262,9 @@ class DecomposedParticleField final : public CueField {
   // owner, or a rank near it, is not adjacent to this block (a Brownian step has no bound)
   // goes to every rank by an all-gather, empty but for such rare jumps, and each rank
   // takes it as its own or as halo. Arrivals are merged into this rank's arrays by id; the
-  // halo is kept for build_local().
-  void redistribute(bool with_halo) {
+  // halo is kept for build_local(). After a move, `alive` is the move's survival flags: the
+  // same pass drops the dead (the one-process compaction), so the arrays are read once.
+  void redistribute(bool with_halo, const std::vector<std::uint8_t>* alive = nullptr) {
     const std::size_t peers = neighbours_.size();
     moving_.resize(peers), near_.resize(peers), out_.resize(peers);
     for (auto& v : moving_) v.clear();
@@ -287,6 +274,7 @@ class DecomposedParticleField final : public CueField {
     std::size_t w = 0;
     const Decomposition::Bounds& mine = bounds_[static_cast<std::size_t>(rank_)];
     for (std::size_t i = 0; i < pos_.size(); ++i) {
+      if (alive && !(*alive)[i]) continue;
       const Vec3 x = pos_[i];
       // Most particles lie well inside the block: kept, near no other block.
       const bool inner = inner_margin_ > 0.0 && mine.inner(x, inner_margin_);

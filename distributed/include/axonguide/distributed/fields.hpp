@@ -2,7 +2,8 @@
 // The cue fields of a run decomposed over ranks (docs/scaling.md §2.4). Each is a CueField
 // whose advance() is collective: every rank calls it for the same steps.
 //  - particles: a rank owns the particles in its block; the emission of a source is made by
-//    the source's owner, with the ids one process gives it; particles that leave the block
+//    the ranks whose blocks lie within the halo of it (shared by id), with the ids one
+//    process gives it; particles that leave the block
 //    migrate after every move (and after the collisions), and every rank keeps a halo of
 //    the particles within the gather radius (the sensing radius r, twice the particle
 //    radius for collisions) of its block, so that a growth cone's gather and a particle's

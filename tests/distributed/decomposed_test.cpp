@@ -559,7 +559,9 @@ TEST(decomposed, NoDelayIsSetOnLoopbackSocketsOnly) {
     }
   freeifaddrs(interfaces);
   const std::array<int, 3> through = outside ? connection(outside) : std::array<int, 3>{-1, -1, -1};
-  if (outside) ASSERT_GE(through[2], 0);
+  if (outside) {
+    ASSERT_GE(through[2], 0);
+  }
   const int unconnected = socket(AF_INET, SOCK_STREAM, 0);
   int pair[2];
   ASSERT_EQ(socketpair(AF_UNIX, SOCK_STREAM, 0, pair), 0);

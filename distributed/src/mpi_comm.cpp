@@ -164,9 +164,12 @@ namespace {
 
 bool g_starting = false;  // inside MPI_Init_thread
 
-// Open MPI ends a process whose MPI_Init fails (its errors are fatal before there is a
-// communicator to set a handler on) with exit(): this says which library failed and makes
-// it exit 3, a run that could not proceed.
+// A library that ends the process with exit() when MPI_Init fails (its errors are fatal
+// before there is a communicator to set a handler on): this says which library failed and
+// makes it exit 3, a run that could not proceed. Open MPI 4.1 does not come here in the
+// failures tried (a pml, btl or coll component that does not exist or cannot be
+// selected): it reports the abort to mpirun, which exits 1, and calls _exit (docs/scaling.md
+// §2.8).
 void init_failed_at_exit() {
   if (!g_starting) return;
   std::fprintf(stderr,

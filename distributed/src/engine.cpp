@@ -367,8 +367,9 @@ std::unique_ptr<Engine> make_decomposed_engine(const Scene& scene, const Decompo
 
 RankSomas rank_somas(const std::vector<Vec3>& all, const Decomposition& d, int rank) {
   RankSomas s;
+  const Decomposition::Bounds block = d.bounds(rank);
   for (std::size_t i = 0; i < all.size(); ++i) {
-    if (!d.near(rank, all[i], d.halo)) continue;
+    if (!block.near(all[i], d.halo)) continue;
     s.id.push_back(static_cast<std::uint32_t>(i));
     s.pos.push_back(all[i]);
     s.owned.push_back(d.owner(all[i]) == rank);

@@ -210,10 +210,11 @@ class Placer {
   // The block's final somas: into this rank's halo list and overlap index, and rank 0's copy.
   void keep_block() {
     Stopwatch w(out_.stats.replicated_seconds);
+    const Decomposition::Bounds mine = d_.bounds(rank_);
     for (std::size_t k = 0; k < m_; ++k) {
       const Vec3 x = final_[k];
       if (comm_.root()) out_.all[base_ + k] = x;
-      if (!d_.near(rank_, x, d_.halo)) continue;
+      if (!mine.near(x, d_.halo)) continue;
       const auto slot = static_cast<std::uint32_t>(near_pos_.size());
       out_.somas.id.push_back(static_cast<std::uint32_t>(base_ + k));
       near_pos_.push_back(x);

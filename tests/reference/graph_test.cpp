@@ -46,6 +46,9 @@ RC_GTEST_PROP(graph, BfsLevelsEqualBoostAndParentsFollowTheRule, ()) {
   const std::uint32_t source = *rc::gen::inRange<std::uint32_t>(0, static_cast<std::uint32_t>(e.n));
   const int threads = *rc::gen::element(1, 2, 7);
   const BfsResult ours = with_threads(threads, [&] { return bfs(g, in, {source}); });
+  const BfsResult lazy = with_threads(threads, [&] { return bfs(g, {source}); });  // builds `in` if needed
+  RC_ASSERT(lazy.level == ours.level);
+  RC_ASSERT(lazy.parent == ours.parent);
 
   BoostGraph bg(e.n);
   for (std::size_t k = 0; k < e.src.size(); ++k) boost::add_edge(e.src[k], e.dst[k], bg);
@@ -125,6 +128,11 @@ TEST(graph, BottomUpLevelsEqualBoostTheParentRuleAndTheAccelerator) {
   EXPECT_EQ(two.bottom_up_levels, one.bottom_up_levels);
   EXPECT_EQ(two.level, one.level);
   EXPECT_EQ(two.parent, one.parent);
+  // The overload that builds the transpose at the first bottom-up level: the same search.
+  const BfsResult lazy = with_threads(2, [&] { return bfs(g, sources); });
+  EXPECT_EQ(lazy.bottom_up_levels, one.bottom_up_levels);
+  EXPECT_EQ(lazy.level, one.level);
+  EXPECT_EQ(lazy.parent, one.parent);
   std::printf("%d of %d levels bottom-up\n", one.bottom_up_levels, one.max_level + 1);
 
   // Boost, from a multi-source BFS (one queue seeded with both sources).

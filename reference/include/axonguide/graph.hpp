@@ -40,8 +40,11 @@ struct BfsResult {
 };
 
 // Level-synchronous BFS over the out-edges of g from every source at once (level 0).
-// `in` is transpose(g), used for the parent rule.
+// `in` is transpose(g), read only by the levels expanded bottom-up.
 BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sources);
+// The same search, building transpose(g) only if a level is expanded bottom-up (a sparse
+// axon network never is, and at 10^7 neurons the transpose cost more than the search).
+BfsResult bfs(const Csr& g, const std::vector<std::uint32_t>& sources);
 
 // A random digraph for tests, validation and benchmarks: `edges` endpoints pairs drawn
 // uniformly from Philox stream (seed, stream, pair index, step), duplicates removed,

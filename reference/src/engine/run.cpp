@@ -62,7 +62,7 @@ GraphAnalysis analyze_graph(const Scene& scene, const NeuronState& neurons) {
   }
   if (!scene.analysis.bfs_sources.empty()) {
     std::vector<std::uint32_t> sources(scene.analysis.bfs_sources.begin(), scene.analysis.bfs_sources.end());
-    a.bfs = bfs(a.out, transpose(a.out), sources);
+    a.bfs = bfs(a.out, sources);
   }
   if (scene.analysis.components) {
     a.component = edge_components(a.out);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -83,7 +84,11 @@ Csr undirected(const Csr& g) {
 // bottom-up scans ascending in-lists and stops at the first frontier vertex, which is the
 // lowest; top-down keeps the minimum over every frontier vertex that reaches a vertex in
 // this level (an integer minimum, so the order of the visits does not matter).
-BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sources) {
+namespace {
+
+// in_edges() gives transpose(g); it is called only when a level is expanded bottom-up.
+template <class InEdges>
+BfsResult bfs_with(const Csr& g, InEdges in_edges, const std::vector<std::uint32_t>& sources) {
   const std::size_t n = g.vertices();
   BfsResult r;
   r.level.assign(n, -1);
@@ -143,6 +148,7 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
     counted = bottom_up;  // the bottom-up expansion counts as it goes
     if (bottom_up) {
       ++r.bottom_up_levels;
+      const Csr& in = in_edges();
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& b) {
         Found& out = local.local();
         // Relaxed atomic accesses: other threads read levels this pass writes (a written
@@ -183,6 +189,23 @@ BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sou
   return r;
 }
 
+}  // namespace
+
+BfsResult bfs(const Csr& g, const Csr& in, const std::vector<std::uint32_t>& sources) {
+  return bfs_with(g, [&in]() -> const Csr& { return in; }, sources);
+}
+
+BfsResult bfs(const Csr& g, const std::vector<std::uint32_t>& sources) {
+  std::optional<Csr> in;
+  return bfs_with(
+      g,
+      [&]() -> const Csr& {
+        if (!in) in = transpose(g);
+        return *in;
+      },
+      sources);
+}
+
 std::vector<std::uint32_t> components(const Csr& u) {
   const std::size_t n = u.vertices();
   constexpr std::uint32_t kUnset = 0xffffffffu;
@@ -221,12 +244,20 @@ std::vector<std::uint32_t> edge_components(const Csr& g) {
     }
     return x;
   };
-  for (std::size_t u = 0; u < n; ++u)
+  // The targets are random ids: their parents, and those of the sources' parents, are
+  // prefetched kAhead edges and vertices early so that the cache misses overlap (at 10^7
+  // vertices the parents are 40 MB, beyond the last-level cache).
+  constexpr std::size_t kAhead = 16;
+  const std::size_t edges = g.targets.size();
+  for (std::size_t u = 0; u < n; ++u) {
+    if (u + kAhead < n) __builtin_prefetch(&parent[parent[u + kAhead]]);
     for (std::uint32_t k = g.offsets[u]; k < g.offsets[u + 1]; ++k) {
+      if (k + kAhead < edges) __builtin_prefetch(&parent[g.targets[k + kAhead]]);
       const std::uint32_t a = find(static_cast<std::uint32_t>(u)), b = find(g.targets[k]);
       if (a < b) parent[b] = a;
       else if (b < a) parent[a] = b;
     }
+  }
   for (std::size_t v = 0; v < n; ++v) parent[v] = parent[parent[v]];
   return parent;
 }

@@ -1,8 +1,10 @@
 #include "axonguide/distributed/mpi_comm.hpp"
 
+#include <dlfcn.h>
 #include <mpi.h>
 
 #include <algorithm>
+#include <atomic>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
@@ -162,22 +164,24 @@ std::string mpi_library() {
 
 namespace {
 
-bool g_starting = false;  // inside MPI_Init_thread
+std::atomic<bool> g_starting{false};  // inside MPI_Init_thread
 
-// A library that ends the process with exit() when MPI_Init fails (its errors are fatal
-// before there is a communicator to set a handler on): this says which library failed and
-// makes it exit 3, a run that could not proceed. Open MPI 4.1 does not come here in the
-// failures tried (a pml, btl or coll component that does not exist or cannot be
-// selected): it reports the abort to mpirun, which exits 1, and calls _exit (docs/scaling.md
-// §2.8).
-void init_failed_at_exit() {
-  if (!g_starting) return;
+void say_mpi_could_not_start() {
   std::fprintf(stderr,
                "axonguide: error: MPI could not start (%s, MPI_Init_thread; its own message is above): check the "
                "launcher (mpirun or srun of the same MPI as this build) and its MCA settings, or run without "
                "mpirun\n",
                mpi_library().c_str());
   std::fflush(stderr);
+}
+
+// A library that ends the process with exit() when MPI_Init fails (its errors are fatal
+// before there is a communicator to set a handler on): this says which library failed and
+// makes it exit 3, a run that could not proceed. Open MPI 4.1 takes the path of PMIx_Abort
+// below instead.
+void init_failed_at_exit() {
+  if (!g_starting) return;
+  say_mpi_could_not_start();
   std::_Exit(3);
 }
 
@@ -223,3 +227,24 @@ void abort_job(int code) {
 }
 
 }  // namespace axg::distributed
+
+// Open MPI 4.1 ends a process whose MPI_Init fails inside it (a messaging component that
+// does not exist or cannot be selected, say) by reporting an abort with status 1 to its
+// launcher through PMIx, whose exit status follows that report, and then calling _exit(1):
+// no exit handler runs (docs/scaling.md §2.8). The command defines PMIx_Abort and exports it
+// from the executable (app/CMakeLists.txt), so the library's call, made through the
+// dynamic symbol table, reaches this one first. Inside MPI_Init it names the library and
+// reports status 3, a run that could not proceed; at any other time (MPI_Abort, with the
+// command's own codes) it passes the call on unchanged. An MPI that never calls PMIx_Abort
+// is not affected. The arguments are PMIx's (pmix_status_t is a 32-bit int, procs an array
+// of pmix_proc_t), passed through as they came.
+extern "C" int PMIx_Abort(int status, const char msg[], void* procs, std::size_t nprocs) {
+  using Abort = int (*)(int, const char[], void*, std::size_t);
+  static const auto next = reinterpret_cast<Abort>(dlsym(RTLD_NEXT, "PMIx_Abort"));
+  if (axg::distributed::g_starting) {
+    axg::distributed::say_mpi_could_not_start();
+    status = 3;
+  }
+  if (!next) std::_Exit(status);  // no PMIx library behind it: end the process as the abort would
+  return next(status, msg, procs, nprocs);
+}

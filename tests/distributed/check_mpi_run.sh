@@ -14,7 +14,8 @@
 #    many ranks for the scene's halo (a step's reach, the particles' sensing radius, the
 #    grid's slabs), --backend emulated (the accelerator), placement too dense (the folder is
 #    left as it was), a folder that holds another run, a checkpoint of another scene, and
-#    a launcher that is not this build's MPI's (exit 3, naming the library).
+#    a launcher that is not this build's MPI's, and an MPI that fails inside MPI_Init (exit
+#    3, naming the library).
 # Usage: check_mpi_run.sh AXONGUIDE MPIEXEC SOURCE_DIR
 set -euo pipefail
 exe=$1
@@ -192,4 +193,16 @@ set -e
 [ $rc -eq 3 ] || fail "a foreign launcher: exited $rc, expected 3: $(cat foreign.log)"
 grep -q "this build's MPI (Open MPI" foreign.log || fail "the message does not name the MPI: $(cat foreign.log)"
 [ ! -e foreign ] || fail "a run under a foreign launcher made its folder"
+# An MPI that cannot start: Open MPI fails inside MPI_Init (a messaging component that does
+# not exist; pml ucx, which cannot be selected on a machine without its transports, is the
+# same path) and ends the job through PMIx_Abort, which the command defines: exit 3, the
+# command's message naming this build's MPI beside Open MPI's own, and no folder.
+set +e
+OMPI_MCA_pml=nonexistent timeout 60 "${mpi[@]}" -np 2 "$exe" run direct.json --out nostart -q > nostart.log 2>&1
+rc=$?
+set -e
+[ $rc -eq 3 ] || fail "an MPI that cannot start: mpirun exited $rc, expected 3: $(cat nostart.log)"
+grep -q "axonguide: error: MPI could not start (Open MPI" nostart.log ||
+  fail "the message does not say that MPI could not start, naming it: $(cat nostart.log)"
+[ ! -e nostart ] || fail "a run whose MPI could not start made its folder"
 echo "refusals: exit 2 or 3, one message from rank 0, no hang, no folder"

@@ -19,8 +19,9 @@ std::string mpi_library();
 std::unique_ptr<Comm> make_mpi_comm();
 
 // MPI_Init and MPI_Finalize around a command, on every rank. An MPI_Init that fails and
-// returns ends the process with exit 3 and a message naming the library (Open MPI 4.1 ends
-// the process itself, with its own message and exit 1, from inside MPI_Init). When a rank died, the
+// returns ends the process with exit 3 and a message naming the library; Open MPI 4.1 ends
+// the process itself from inside MPI_Init, through PMIx_Abort, which the command defines
+// so that the job exits 3 with that message too (mpi_comm.cpp). When a rank died, the
 // destructor does not call MPI_Finalize (Open MPI 4.1 would wait for the dead rank
 // forever): it ends the process with exit_code.
 // When Open MPI's launcher put every rank on this node and the user chose no messaging

@@ -3,9 +3,12 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <new>
 #include <vector>
 
 #include <fmt/format.h>
@@ -33,10 +36,8 @@ std::string to_hex(const unsigned char* md, unsigned int len) {
 
 AtomicFile::AtomicFile(const fs::path& dir, const std::string& name, Sync sync)
     : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())), sync_(sync) {
-  file_ = std::fopen(temp_.c_str(), "wb");
-  if (!file_)
-    throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(errno)));
-  std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd_ < 0) throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(errno)));
   auto* ctx = EVP_MD_CTX_new();
   if (!ctx || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) throw RunError("SHA-256 unavailable");
   digest_ = ctx;
@@ -44,31 +45,102 @@ AtomicFile::AtomicFile(const fs::path& dir, const std::string& name, Sync sync)
 
 AtomicFile::~AtomicFile() {
   EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(digest_));
-  if (file_) std::fclose(file_);
+  if (fd_ >= 0) ::close(fd_);
   if (!committed_) {
     std::error_code ec;
     fs::remove(temp_, ec);
   }
 }
 
+void AtomicFile::Free::operator()(char* p) const { std::free(p); }
+
+// The buffer starts small (most files are) and grows to one block.
+void AtomicFile::grow(std::size_t at_least) {
+  std::size_t capacity = std::max<std::size_t>(capacity_, std::size_t{1} << 16);
+  while (capacity < at_least && capacity < kDirectBlock) capacity *= 4;
+  capacity = std::min(capacity, kDirectBlock);
+  void* p = nullptr;
+  if (::posix_memalign(&p, 4096, capacity) != 0) throw std::bad_alloc();
+  if (size_) std::memcpy(p, buffer_.get(), size_);
+  buffer_.reset(static_cast<char*>(p));
+  capacity_ = capacity;
+}
+
 void AtomicFile::write(std::string_view text) {
   EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(digest_), text.data(), text.size());
-  if (std::fwrite(text.data(), 1, text.size(), file_) != text.size())
-    throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
+  while (!text.empty()) {
+    if (size_ == capacity_) {
+      if (capacity_ < kDirectBlock)
+        grow(size_ + text.size());
+      else
+        write_block();
+    }
+    const std::size_t n = std::min(text.size(), capacity_ - size_);
+    std::memcpy(buffer_.get() + size_, text.data(), n);
+    size_ += n;
+    text.remove_prefix(n);
+  }
+}
+
+bool AtomicFile::set_direct(bool on) {
+  const int flags = ::fcntl(fd_, F_GETFL);
+  if (flags < 0 || ::fcntl(fd_, F_SETFL, on ? flags | O_DIRECT : flags & ~O_DIRECT) != 0) return false;
+  direct_ = on;
+  return true;
+}
+
+// Direct I/O writes the block from this buffer to the disk: no page-cache pages to fill
+// (on a VM whose host takes freed pages back, each fresh one costs a fault there too) and
+// nothing left for the write-back. A file system that refuses it (tmpfs, some network
+// file systems: EINVAL at fcntl or at the write) gets the page cache.
+void AtomicFile::write_block() {
+  if (!tried_direct_) tried_direct_ = true, set_direct(true);
+  if (direct_) {
+    ssize_t n;
+    do n = ::write(fd_, buffer_.get(), size_);
+    while (n < 0 && errno == EINTR);
+    if (n == static_cast<ssize_t>(size_)) {
+      wrote_direct_ = true;
+      size_ = 0;
+      return;
+    }
+    // A short or refused direct write: the rest through the page cache (the file offset
+    // is where the written part ends).
+    if (n < 0 && errno != EINVAL) throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
+    set_direct(false);
+    const std::size_t done = n > 0 ? static_cast<std::size_t>(n) : 0;
+    write_all(buffer_.get() + done, size_ - done);
+  } else {
+    write_all(buffer_.get(), size_);
+  }
+  size_ = 0;
+}
+
+void AtomicFile::write_all(const char* data, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd_, data, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(w < 0 ? errno : EIO)));
+    data += w, n -= static_cast<std::size_t>(w);
+  }
 }
 
 std::string AtomicFile::commit() {
   fault_point("output " + final_.filename().string());
+  // The tail through the page cache (direct I/O takes whole blocks only).
+  if (direct_ && !set_direct(false))
+    throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
+  write_all(buffer_.get(), size_);
+  size_ = 0;
   // Deferred: the write-back starts now (sync_file_range does not wait for it), and
   // sync_filesystem waits for it later.
-  const bool ok = std::fflush(file_) == 0 &&
-                  (sync_ == Sync::kDeferred ? ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE) == 0
-                                            : ::fsync(::fileno(file_)) == 0);
+  const bool ok = sync_ == Sync::kDeferred ? ::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE) == 0
+                                           : ::fsync(fd_) == 0;
   const int err = errno;
-  const bool closed = std::fclose(file_) == 0;
-  file_ = nullptr;
+  const bool closed = ::close(fd_) == 0;
+  fd_ = -1;
   if (!ok || !closed)
-    throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(err)));
+    throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(ok ? errno : err)));
   std::error_code ec;
   fs::rename(temp_, final_, ec);
   if (ec) throw RunError(fmt::format("cannot rename {} to {}: {}", temp_.string(), final_.string(), ec.message()));

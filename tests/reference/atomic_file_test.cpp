@@ -1,0 +1,112 @@
+// AtomicFile: whatever the sizes of the writes, the file holds their bytes in order and
+// commit() returns their SHA-256; a file of more than one block goes to the disk with
+// direct I/O where the file system takes it, its tail through the page cache; an
+// uncommitted file leaves nothing behind.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+using test::TempDir;
+namespace fs = std::filesystem;
+
+constexpr std::size_t kBlock = AtomicFile::kDirectBlock;
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Bytes that differ from position to position and from file to file.
+std::string pattern(std::size_t n, std::uint32_t salt) {
+  std::string s(n, '\0');
+  std::uint32_t x = salt * 2654435761u + 1;
+  for (std::size_t i = 0; i < n; ++i) x = x * 1664525u + 1013904223u, s[i] = static_cast<char>(x >> 24);
+  return s;
+}
+
+// Whether the file system of dir takes an aligned direct write.
+bool direct_io_works(const fs::path& dir) {
+  const fs::path probe = dir / "probe";
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_DIRECT, 0644);
+  if (fd < 0) return false;
+  void* p = nullptr;
+  bool ok = ::posix_memalign(&p, 4096, 4096) == 0;
+  if (ok) {
+    std::memset(p, 0, 4096);
+    ok = ::write(fd, p, 4096) == 4096;
+  }
+  std::free(p);
+  ::close(fd);
+  fs::remove(probe);
+  return ok;
+}
+
+RC_GTEST_PROP(AtomicFileWrites, HoldsTheWrittenBytesAndTheirHash, ()) {
+  // Sizes around the block: empty writes, small ones, ones that end a block exactly, and
+  // ones larger than a block.
+  const auto sizes = *rc::gen::container<std::vector<std::size_t>>(
+      *rc::gen::inRange<std::size_t>(0, 6),
+      rc::gen::oneOf(rc::gen::inRange<std::size_t>(0, 5000), rc::gen::just(kBlock), rc::gen::just(kBlock - 1),
+                     rc::gen::inRange<std::size_t>(kBlock - 4096, kBlock + 4097),
+                     rc::gen::inRange<std::size_t>(0, 2 * kBlock + 3)));
+  TempDir dir;
+  std::string all;
+  std::string hash;
+  {
+    AtomicFile f(dir.path(), "out.bin", *rc::gen::element(AtomicFile::Sync::kFile, AtomicFile::Sync::kDeferred));
+    std::uint32_t salt = 0;
+    for (std::size_t n : sizes) {
+      const std::string chunk = pattern(n, ++salt);
+      f.write(chunk);
+      all += chunk;
+    }
+    hash = f.commit();
+  }
+  RC_ASSERT(read_all(dir.path() / "out.bin") == all);
+  RC_ASSERT(hash == sha256_hex(all));
+  std::vector<fs::path> left;
+  for (const auto& e : fs::directory_iterator(dir.path())) left.push_back(e.path().filename());
+  RC_ASSERT(left == std::vector<fs::path>{"out.bin"});
+}
+
+TEST(AtomicFileWrites, LargeFileGoesDirectWhereTheFileSystemTakesIt) {
+  TempDir dir;
+  if (!direct_io_works(dir.path())) GTEST_SKIP() << dir.path() << ": the file system refuses direct I/O";
+  const std::string big = pattern(2 * kBlock + 12345, 7), small = pattern(kBlock, 8);
+  AtomicFile f(dir.path(), "big.bin"), g(dir.path(), "small.bin");
+  f.write(big);
+  g.write(small);  // one block exactly: nothing is written before commit, all of it buffered
+  EXPECT_EQ(f.commit(), sha256_hex(big));
+  EXPECT_EQ(g.commit(), sha256_hex(small));
+  EXPECT_TRUE(f.wrote_direct());
+  EXPECT_FALSE(g.wrote_direct());
+  EXPECT_EQ(read_all(dir.path() / "big.bin"), big);
+  EXPECT_EQ(read_all(dir.path() / "small.bin"), small);
+  EXPECT_EQ(fs::file_size(dir.path() / "big.bin"), big.size());
+}
+
+TEST(AtomicFileWrites, UncommittedFileLeavesNothing) {
+  TempDir dir;
+  {
+    AtomicFile f(dir.path(), "gone.bin");
+    f.write(pattern(kBlock + 10, 3));  // one block already on the disk
+  }
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+}  // namespace
+}  // namespace axg

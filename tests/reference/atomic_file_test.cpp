@@ -6,7 +6,10 @@
 #include <rapidcheck/gtest.h>
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <cstdlib>
 #include <cstring>
@@ -97,6 +100,35 @@ TEST(AtomicFileWrites, LargeFileGoesDirectWhereTheFileSystemTakesIt) {
   EXPECT_EQ(read_all(dir.path() / "big.bin"), big);
   EXPECT_EQ(read_all(dir.path() / "small.bin"), small);
   EXPECT_EQ(fs::file_size(dir.path() / "big.bin"), big.size());
+}
+
+// A block that cannot be written (here: the file-size limit, EFBIG, on the writer's thread)
+// is a RunError on the caller's thread, already at the next block handed over (not only at
+// commit, whose own tail write would fail too), and the temporary file is gone.
+TEST(AtomicFileWrites, AFailedBlockIsARunErrorAndLeavesNothing) {
+  TempDir dir;
+  rlimit before{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit limit = before;
+  limit.rlim_cur = kBlock + kBlock / 2;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+  std::string error;
+  bool committing = false;
+  try {
+    AtomicFile f(dir.path(), "big.bin");
+    for (int k = 0; k < 4; ++k) f.write(pattern(kBlock, static_cast<std::uint32_t>(k)));
+    committing = true;
+    f.commit();
+  } catch (const RunError& e) {
+    error = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &before);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_FALSE(committing) << "the failed block was reported only at commit";
+  EXPECT_NE(error.find("cannot write"), std::string::npos) << error;
+  EXPECT_NE(error.find("big.bin"), std::string::npos) << error;
+  EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
 TEST(AtomicFileWrites, UncommittedFileLeavesNothing) {

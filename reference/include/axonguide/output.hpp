@@ -13,7 +13,8 @@ namespace axg {
 // A buffered file that becomes visible under its name only on commit(). A file of more than
 // kDirectBlock bytes is written in whole blocks of that size with direct I/O (O_DIRECT,
 // where the file system takes it): from the buffer to the disk, with no copy into the page
-// cache; its tail, and every smaller file, through the page cache.
+// cache, on a thread of the file's own while the caller fills the next block; its tail,
+// and every smaller file, through the page cache.
 class AtomicFile {
  public:
   // kFile: commit() syncs the file before the rename. kDeferred: commit() starts the
@@ -32,28 +33,27 @@ class AtomicFile {
   const std::filesystem::path& final_path() const { return final_; }
 
   static constexpr std::size_t kDirectBlock = std::size_t{4} << 20;  // bytes; a multiple of every block size
-  // Whether the file's whole blocks went to the disk with direct I/O (for tests).
+  // Whether the file's whole blocks went to the disk with direct I/O (for tests; after commit).
   bool wrote_direct() const { return wrote_direct_; }
 
  private:
+  class BlockWriter;  // writes whole blocks on a thread of its own (output.cpp)
   struct Free {
     void operator()(char* p) const;
   };
   void grow(std::size_t at_least);
-  void write_block();                              // the full buffer, directly where possible
-  void write_all(const char* data, std::size_t n);  // write(2) until done; RunError on failure
-  bool set_direct(bool on);
 
   std::filesystem::path final_, temp_;
   int fd_ = -1;
   bool committed_ = false;
-  bool direct_ = false;        // O_DIRECT is set on fd_
-  bool tried_direct_ = false;  // set_direct(true) was tried
-  bool wrote_direct_ = false;  // a block went with direct I/O
+  bool wrote_direct_ = false;
   Sync sync_;
   void* digest_ = nullptr;  // EVP_MD_CTX, hashed as bytes are written
-  std::unique_ptr<char, Free> buffer_;  // aligned to 4096 bytes, as direct I/O needs
+  // The block being filled and the one the writer has, each aligned to 4096 bytes, as
+  // direct I/O needs; the writer exists once the file has outgrown one block.
+  std::unique_ptr<char, Free> buffer_, spare_;
   std::size_t size_ = 0, capacity_ = 0;
+  std::unique_ptr<BlockWriter> blocks_;
 };
 
 // Writes a whole file atomically (AtomicFile, write, commit); returns its SHA-256.

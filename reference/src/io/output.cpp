@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
+#include <condition_variable>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <new>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -34,6 +37,114 @@ std::string to_hex(const unsigned char* md, unsigned int len) {
 }
 }  // namespace
 
+namespace {
+
+bool set_direct(int fd, bool on) {
+  const int flags = ::fcntl(fd, F_GETFL);
+  return flags >= 0 && ::fcntl(fd, F_SETFL, on ? flags | O_DIRECT : flags & ~O_DIRECT) == 0;
+}
+
+// write(2) until all n bytes are written; RunError naming the file on failure.
+void write_all(int fd, const char* data, std::size_t n, const fs::path& name) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd, data, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) throw RunError(fmt::format("cannot write {}: {}", name.string(), std::strerror(w < 0 ? errno : EIO)));
+    data += w, n -= static_cast<std::size_t>(w);
+  }
+}
+
+}  // namespace
+
+// Whole blocks go to the file on this thread, one at a time, in order, while the caller
+// fills the next. Direct I/O writes a block from the caller's buffer to the disk: no
+// page-cache pages to fill (on a VM whose host takes freed pages back, each fresh one costs
+// a fault there too), and nothing left for the write-back. A file system that refuses it
+// (EINVAL at fcntl or at the write) gets the page cache.
+class AtomicFile::BlockWriter {
+ public:
+  BlockWriter(int fd, fs::path name) : fd_(fd), name_(std::move(name)), thread_([this] { run(); }) {}
+  ~BlockWriter() {
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();  // after the block in flight
+  }
+
+  // Waits until the block before is written, then takes this one (which must stay as it is
+  // until the next submit or finish returns). RunError: a block before failed.
+  void submit(const char* block, std::size_t size) {
+    std::unique_lock<std::mutex> lock(m_);
+    cv_.wait(lock, [&] { return job_ == nullptr; });
+    if (!error_.empty()) throw RunError(error_);
+    job_ = block, job_size_ = size;
+    cv_.notify_all();
+  }
+  // Waits until every block is written; RunError if one failed. Returns whether O_DIRECT
+  // is still set on the file.
+  bool finish() {
+    std::unique_lock<std::mutex> lock(m_);
+    cv_.wait(lock, [&] { return job_ == nullptr; });
+    if (!error_.empty()) throw RunError(error_);
+    return direct_;
+  }
+  bool wrote_direct() const { return wrote_direct_; }  // after finish()
+
+ private:
+  void run() {
+    std::unique_lock<std::mutex> lock(m_);
+    for (;;) {
+      cv_.wait(lock, [&] { return job_ != nullptr || stop_; });
+      if (job_ == nullptr) return;
+      lock.unlock();
+      std::string error;
+      try {
+        write_block(job_, job_size_);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      lock.lock();
+      if (error_.empty()) error_ = std::move(error);
+      job_ = nullptr;
+      cv_.notify_all();
+    }
+  }
+
+  void write_block(const char* block, std::size_t size) {
+    if (!tried_direct_) tried_direct_ = true, direct_ = set_direct(fd_, true);
+    if (direct_) {
+      ssize_t n;
+      do n = ::write(fd_, block, size);
+      while (n < 0 && errno == EINTR);
+      if (n == static_cast<ssize_t>(size)) {
+        wrote_direct_ = true;
+        return;
+      }
+      // A short or refused direct write: the rest through the page cache (the file offset
+      // is where the written part ends).
+      if (n < 0 && errno != EINVAL) throw RunError(fmt::format("cannot write {}: {}", name_.string(), std::strerror(errno)));
+      direct_ = !set_direct(fd_, false);
+      if (direct_) throw RunError(fmt::format("cannot write {}: {}", name_.string(), std::strerror(errno)));
+      const std::size_t done = n > 0 ? static_cast<std::size_t>(n) : 0;
+      block += done, size -= done;
+    }
+    write_all(fd_, block, size, name_);
+  }
+
+  int fd_;
+  fs::path name_;
+  bool tried_direct_ = false, direct_ = false, wrote_direct_ = false;  // the writer thread's (read after finish)
+  std::mutex m_;
+  std::condition_variable cv_;
+  const char* job_ = nullptr;  // the block in flight
+  std::size_t job_size_ = 0;
+  bool stop_ = false;
+  std::string error_;  // the first block's failure
+  std::thread thread_;  // last: started once the rest is constructed
+};
+
 AtomicFile::AtomicFile(const fs::path& dir, const std::string& name, Sync sync)
     : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())), sync_(sync) {
   fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
@@ -44,6 +155,7 @@ AtomicFile::AtomicFile(const fs::path& dir, const std::string& name, Sync sync)
 }
 
 AtomicFile::~AtomicFile() {
+  blocks_.reset();  // the block in flight is written first
   EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(digest_));
   if (fd_ >= 0) ::close(fd_);
   if (!committed_) {
@@ -54,15 +166,22 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::Free::operator()(char* p) const { std::free(p); }
 
+namespace {
+char* aligned_block(std::size_t size) {
+  void* p = nullptr;
+  if (::posix_memalign(&p, 4096, size) != 0) throw std::bad_alloc();
+  return static_cast<char*>(p);
+}
+}  // namespace
+
 // The buffer starts small (most files are) and grows to one block.
 void AtomicFile::grow(std::size_t at_least) {
   std::size_t capacity = std::max<std::size_t>(capacity_, std::size_t{1} << 16);
   while (capacity < at_least && capacity < kDirectBlock) capacity *= 4;
   capacity = std::min(capacity, kDirectBlock);
-  void* p = nullptr;
-  if (::posix_memalign(&p, 4096, capacity) != 0) throw std::bad_alloc();
+  char* p = aligned_block(capacity);
   if (size_) std::memcpy(p, buffer_.get(), size_);
-  buffer_.reset(static_cast<char*>(p));
+  buffer_.reset(p);
   capacity_ = capacity;
 }
 
@@ -70,10 +189,14 @@ void AtomicFile::write(std::string_view text) {
   EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(digest_), text.data(), text.size());
   while (!text.empty()) {
     if (size_ == capacity_) {
-      if (capacity_ < kDirectBlock)
+      if (capacity_ < kDirectBlock) {
         grow(size_ + text.size());
-      else
-        write_block();
+      } else {
+        if (!blocks_) spare_.reset(aligned_block(kDirectBlock)), blocks_ = std::make_unique<BlockWriter>(fd_, temp_);
+        blocks_->submit(buffer_.get(), size_);  // the spare is free once this returns
+        std::swap(buffer_, spare_);
+        size_ = 0;
+      }
     }
     const std::size_t n = std::min(text.size(), capacity_ - size_);
     std::memcpy(buffer_.get() + size_, text.data(), n);
@@ -82,55 +205,17 @@ void AtomicFile::write(std::string_view text) {
   }
 }
 
-bool AtomicFile::set_direct(bool on) {
-  const int flags = ::fcntl(fd_, F_GETFL);
-  if (flags < 0 || ::fcntl(fd_, F_SETFL, on ? flags | O_DIRECT : flags & ~O_DIRECT) != 0) return false;
-  direct_ = on;
-  return true;
-}
-
-// Direct I/O writes the block from this buffer to the disk: no page-cache pages to fill
-// (on a VM whose host takes freed pages back, each fresh one costs a fault there too) and
-// nothing left for the write-back. A file system that refuses it (tmpfs, some network
-// file systems: EINVAL at fcntl or at the write) gets the page cache.
-void AtomicFile::write_block() {
-  if (!tried_direct_) tried_direct_ = true, set_direct(true);
-  if (direct_) {
-    ssize_t n;
-    do n = ::write(fd_, buffer_.get(), size_);
-    while (n < 0 && errno == EINTR);
-    if (n == static_cast<ssize_t>(size_)) {
-      wrote_direct_ = true;
-      size_ = 0;
-      return;
-    }
-    // A short or refused direct write: the rest through the page cache (the file offset
-    // is where the written part ends).
-    if (n < 0 && errno != EINVAL) throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
-    set_direct(false);
-    const std::size_t done = n > 0 ? static_cast<std::size_t>(n) : 0;
-    write_all(buffer_.get() + done, size_ - done);
-  } else {
-    write_all(buffer_.get(), size_);
-  }
-  size_ = 0;
-}
-
-void AtomicFile::write_all(const char* data, std::size_t n) {
-  while (n > 0) {
-    const ssize_t w = ::write(fd_, data, n);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(w < 0 ? errno : EIO)));
-    data += w, n -= static_cast<std::size_t>(w);
-  }
-}
-
 std::string AtomicFile::commit() {
   fault_point("output " + final_.filename().string());
   // The tail through the page cache (direct I/O takes whole blocks only).
-  if (direct_ && !set_direct(false))
-    throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
-  write_all(buffer_.get(), size_);
+  if (blocks_) {
+    const bool direct = blocks_->finish();
+    wrote_direct_ = blocks_->wrote_direct();
+    blocks_.reset();
+    if (direct && !set_direct(fd_, false))
+      throw RunError(fmt::format("cannot write {}: {}", temp_.string(), std::strerror(errno)));
+  }
+  write_all(fd_, buffer_.get(), size_, temp_);
   size_ = 0;
   // Deferred: the write-back starts now (sync_file_range does not wait for it), and
   // sync_filesystem waits for it later.

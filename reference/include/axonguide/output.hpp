@@ -38,9 +38,11 @@ class AtomicFile {
 
  private:
   class BlockWriter;  // writes whole blocks on a thread of its own (output.cpp)
-  struct Free {
+  struct Free {  // a block is its own mapping, given back whole; smaller buffers are malloc's
+    std::size_t size;  // bytes (0 in the deleter of an empty pointer)
     void operator()(char* p) const;
   };
+  static std::unique_ptr<char, Free> aligned_buffer(std::size_t size);
   void grow(std::size_t at_least);
 
   std::filesystem::path final_, temp_;

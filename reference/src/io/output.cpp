@@ -1,6 +1,7 @@
 #include "axonguide/output.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -164,24 +165,35 @@ AtomicFile::~AtomicFile() {
   }
 }
 
-void AtomicFile::Free::operator()(char* p) const { std::free(p); }
-
-namespace {
-char* aligned_block(std::size_t size) {
-  void* p = nullptr;
-  if (::posix_memalign(&p, 4096, size) != 0) throw std::bad_alloc();
-  return static_cast<char*>(p);
+// A block-sized buffer is mapped and unmapped on its own: from the heap, the freed blocks
+// would stay with the process and could raise the peak of what is allocated after them
+// (the SONATA writer's arrays, after bfs.csv: 9 MB at 10^7 neurons).
+void AtomicFile::Free::operator()(char* p) const {
+  if (size >= kDirectBlock)
+    ::munmap(p, size);
+  else
+    std::free(p);
 }
-}  // namespace
+
+std::unique_ptr<char, AtomicFile::Free> AtomicFile::aligned_buffer(std::size_t size) {
+  void* p = nullptr;
+  if (size >= kDirectBlock) {
+    p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+  } else if (::posix_memalign(&p, 4096, size) != 0) {
+    throw std::bad_alloc();
+  }
+  return std::unique_ptr<char, Free>(static_cast<char*>(p), Free{size});
+}
 
 // The buffer starts small (most files are) and grows to one block.
 void AtomicFile::grow(std::size_t at_least) {
   std::size_t capacity = std::max<std::size_t>(capacity_, std::size_t{1} << 16);
   while (capacity < at_least && capacity < kDirectBlock) capacity *= 4;
   capacity = std::min(capacity, kDirectBlock);
-  char* p = aligned_block(capacity);
-  if (size_) std::memcpy(p, buffer_.get(), size_);
-  buffer_.reset(p);
+  auto p = aligned_buffer(capacity);
+  if (size_) std::memcpy(p.get(), buffer_.get(), size_);
+  buffer_ = std::move(p);
   capacity_ = capacity;
 }
 
@@ -192,7 +204,7 @@ void AtomicFile::write(std::string_view text) {
       if (capacity_ < kDirectBlock) {
         grow(size_ + text.size());
       } else {
-        if (!blocks_) spare_.reset(aligned_block(kDirectBlock)), blocks_ = std::make_unique<BlockWriter>(fd_, temp_);
+        if (!blocks_) spare_ = aligned_buffer(kDirectBlock), blocks_ = std::make_unique<BlockWriter>(fd_, temp_);
         blocks_->submit(buffer_.get(), size_);  // the spare is free once this returns
         std::swap(buffer_, spare_);
         size_ = 0;

@@ -28,6 +28,13 @@ class OverlapIndex {
     std::fill(head_.begin(), head_.end(), kEmpty);
     base_ = base;
   }
+  // The same, for an index that holds slots [base, end) inserted at pos[slot] (every slot
+  // inserted, none moved since): only their buckets are emptied, so that a large index
+  // with few entries (few collisions a query) costs its entries to clear, not its size.
+  void clear_inserted(const std::vector<core::Vec3>& pos, std::uint32_t end, std::uint32_t base) {
+    for (std::uint32_t j = base_; j < end; ++j) head_[bucket(coord(pos[j].x), coord(pos[j].y), coord(pos[j].z))] = kEmpty;
+    base_ = base;
+  }
 
   // Whether any indexed slot j has |pos[j] - p|^2 < min_dist2. The 27 buckets' heads are
   // read first, without a branch between them, so that their cache misses overlap (the

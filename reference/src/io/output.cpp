@@ -61,7 +61,7 @@ void write_all(int fd, const char* data, std::size_t n, const fs::path& name) {
 // fills the next. Direct I/O writes a block from the caller's buffer to the disk: no
 // page-cache pages to fill (on a VM whose host takes freed pages back, each fresh one costs
 // a fault there too), and nothing left for the write-back. A file system that refuses it
-// (EINVAL at fcntl or at the write) gets the page cache.
+// (fcntl fails, or the write fails with EINVAL or EOPNOTSUPP) gets the page cache.
 class AtomicFile::BlockWriter {
  public:
   BlockWriter(int fd, fs::path name) : fd_(fd), name_(std::move(name)), thread_([this] { run(); }) {}
@@ -125,7 +125,8 @@ class AtomicFile::BlockWriter {
       }
       // A short or refused direct write: the rest through the page cache (the file offset
       // is where the written part ends).
-      if (n < 0 && errno != EINVAL) throw RunError(fmt::format("cannot write {}: {}", name_.string(), std::strerror(errno)));
+      const bool refused = n < 0 && (errno == EINVAL || errno == EOPNOTSUPP || errno == ENOTSUP);
+      if (n < 0 && !refused) throw RunError(fmt::format("cannot write {}: {}", name_.string(), std::strerror(errno)));
       direct_ = !set_direct(fd_, false);
       if (direct_) throw RunError(fmt::format("cannot write {}: {}", name_.string(), std::strerror(errno)));
       const std::size_t done = n > 0 ? static_cast<std::size_t>(n) : 0;

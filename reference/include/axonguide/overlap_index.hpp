@@ -32,7 +32,8 @@ class OverlapIndex {
   // inserted, none moved since): only their buckets are emptied, so that a large index
   // with few entries (few collisions a query) costs its entries to clear, not its size.
   void clear_inserted(const std::vector<core::Vec3>& pos, std::uint32_t end, std::uint32_t base) {
-    for (std::uint32_t j = base_; j < end; ++j) head_[bucket(coord(pos[j].x), coord(pos[j].y), coord(pos[j].z))] = kEmpty;
+    for (std::uint32_t j = base_; j < end; ++j)
+      head_[bucket(coord(pos[j].x), coord(pos[j].y), coord(pos[j].z))] = kEmpty;
     base_ = base;
   }
 

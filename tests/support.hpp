@@ -147,4 +147,13 @@ inline std::string read_file(const fs::path& p) {
   return s;
 }
 
+// n bytes that differ from position to position and with the salt (a linear congruential
+// sequence's high bytes): file contents for the output tests.
+inline std::string byte_pattern(std::size_t n, std::uint32_t salt) {
+  std::string s(n, '\0');
+  std::uint32_t x = salt * 2654435761u + 1;
+  for (std::size_t i = 0; i < n; ++i) x = x * 1664525u + 1013904223u, s[i] = static_cast<char>(x >> 24);
+  return s;
+}
+
 }  // namespace axg::test

@@ -11,8 +11,6 @@
 
 #include <atomic>
 #include <cerrno>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include "support.hpp"
@@ -48,23 +46,11 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kBlock = AtomicFile::kDirectBlock;
 
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string pattern(std::size_t n) {
-  std::string s(n, '\0');
-  std::uint32_t x = 12345;
-  for (std::size_t i = 0; i < n; ++i) x = x * 1664525u + 1013904223u, s[i] = static_cast<char>(x >> 24);
-  return s;
-}
-
 // Writes three blocks and a tail under `m` and checks the file's bytes and hash; returns
 // whether its blocks went direct.
 bool write_under(Mode m) {
   TempDir dir;
-  const std::string text = pattern(3 * kBlock + 777);
+  const std::string text = test::byte_pattern(3 * kBlock + 777, 1);
   mode = m;
   direct_writes = 0;
   AtomicFile f(dir.path(), "out.bin");
@@ -72,7 +58,7 @@ bool write_under(Mode m) {
   const std::string hash = f.commit();
   mode = Mode::kPass;
   EXPECT_EQ(hash, sha256_hex(text));
-  EXPECT_TRUE(read_all(dir.path() / "out.bin") == text) << "the file's bytes differ from those written";
+  EXPECT_TRUE(test::read_file(dir.path() / "out.bin") == text) << "the file's bytes differ from those written";
   return f.wrote_direct();
 }
 

@@ -13,8 +13,6 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -27,19 +25,6 @@ using test::TempDir;
 namespace fs = std::filesystem;
 
 constexpr std::size_t kBlock = AtomicFile::kDirectBlock;
-
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// Bytes that differ from position to position and from file to file.
-std::string pattern(std::size_t n, std::uint32_t salt) {
-  std::string s(n, '\0');
-  std::uint32_t x = salt * 2654435761u + 1;
-  for (std::size_t i = 0; i < n; ++i) x = x * 1664525u + 1013904223u, s[i] = static_cast<char>(x >> 24);
-  return s;
-}
 
 // Whether the file system of dir takes an aligned direct write.
 bool direct_io_works(const fs::path& dir) {
@@ -73,13 +58,13 @@ RC_GTEST_PROP(AtomicFileWrites, HoldsTheWrittenBytesAndTheirHash, ()) {
     AtomicFile f(dir.path(), "out.bin", *rc::gen::element(AtomicFile::Sync::kFile, AtomicFile::Sync::kDeferred));
     std::uint32_t salt = 0;
     for (std::size_t n : sizes) {
-      const std::string chunk = pattern(n, ++salt);
+      const std::string chunk = test::byte_pattern(n, ++salt);
       f.write(chunk);
       all += chunk;
     }
     hash = f.commit();
   }
-  RC_ASSERT(read_all(dir.path() / "out.bin") == all);
+  RC_ASSERT(test::read_file(dir.path() / "out.bin") == all);
   RC_ASSERT(hash == sha256_hex(all));
   std::vector<fs::path> left;
   for (const auto& e : fs::directory_iterator(dir.path())) left.push_back(e.path().filename());
@@ -89,7 +74,7 @@ RC_GTEST_PROP(AtomicFileWrites, HoldsTheWrittenBytesAndTheirHash, ()) {
 TEST(AtomicFileWrites, LargeFileGoesDirectWhereTheFileSystemTakesIt) {
   TempDir dir;
   if (!direct_io_works(dir.path())) GTEST_SKIP() << dir.path() << ": the file system refuses direct I/O";
-  const std::string big = pattern(2 * kBlock + 12345, 7), small = pattern(kBlock, 8);
+  const std::string big = test::byte_pattern(2 * kBlock + 12345, 7), small = test::byte_pattern(kBlock, 8);
   AtomicFile f(dir.path(), "big.bin"), g(dir.path(), "small.bin");
   f.write(big);
   g.write(small);  // one block exactly: nothing is written before commit, all of it buffered
@@ -97,8 +82,8 @@ TEST(AtomicFileWrites, LargeFileGoesDirectWhereTheFileSystemTakesIt) {
   EXPECT_EQ(g.commit(), sha256_hex(small));
   EXPECT_TRUE(f.wrote_direct());
   EXPECT_FALSE(g.wrote_direct());
-  EXPECT_EQ(read_all(dir.path() / "big.bin"), big);
-  EXPECT_EQ(read_all(dir.path() / "small.bin"), small);
+  EXPECT_EQ(test::read_file(dir.path() / "big.bin"), big);
+  EXPECT_EQ(test::read_file(dir.path() / "small.bin"), small);
   EXPECT_EQ(fs::file_size(dir.path() / "big.bin"), big.size());
 }
 
@@ -117,7 +102,7 @@ TEST(AtomicFileWrites, AFailedBlockIsARunErrorAndLeavesNothing) {
   bool committing = false;
   try {
     AtomicFile f(dir.path(), "big.bin");
-    for (int k = 0; k < 4; ++k) f.write(pattern(kBlock, static_cast<std::uint32_t>(k)));
+    for (int k = 0; k < 4; ++k) f.write(test::byte_pattern(kBlock, static_cast<std::uint32_t>(k)));
     committing = true;
     f.commit();
   } catch (const RunError& e) {
@@ -135,7 +120,7 @@ TEST(AtomicFileWrites, UncommittedFileLeavesNothing) {
   TempDir dir;
   {
     AtomicFile f(dir.path(), "gone.bin");
-    f.write(pattern(kBlock + 10, 3));  // one block already on the disk
+    f.write(test::byte_pattern(kBlock + 10, 3));  // one block already on the disk
   }
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }

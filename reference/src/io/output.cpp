@@ -36,9 +36,6 @@ std::string to_hex(const unsigned char* md, unsigned int len) {
   }
   return hex;
 }
-}  // namespace
-
-namespace {
 
 bool set_direct(int fd, bool on) {
   const int flags = ::fcntl(fd, F_GETFL);

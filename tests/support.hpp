@@ -1,9 +1,11 @@
 #pragma once
 // Helpers shared by the tests: temporary directories, running scenes, hashing outputs.
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -154,6 +156,24 @@ inline std::string byte_pattern(std::size_t n, std::uint32_t salt) {
   std::uint32_t x = salt * 2654435761u + 1;
   for (std::size_t i = 0; i < n; ++i) x = x * 1664525u + 1013904223u, s[i] = static_cast<char>(x >> 24);
   return s;
+}
+
+// Whether the file system of dir takes an aligned direct write (O_DIRECT).
+inline bool direct_io_works(const fs::path& dir) {
+  const fs::path probe = dir / ".direct-probe";
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_DIRECT, 0644);
+  if (fd < 0) return false;
+  void* p = nullptr;
+  bool ok = ::posix_memalign(&p, 4096, 4096) == 0;
+  if (ok) {
+    std::memset(p, 0, 4096);
+    ok = ::write(fd, p, 4096) == 4096;
+  }
+  std::free(p);
+  ::close(fd);
+  std::error_code ec;
+  fs::remove(probe, ec);
+  return ok;
 }
 
 }  // namespace axg::test

@@ -9,11 +9,12 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
-
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "support.hpp"
@@ -25,23 +26,6 @@ using test::TempDir;
 namespace fs = std::filesystem;
 
 constexpr std::size_t kBlock = AtomicFile::kDirectBlock;
-
-// Whether the file system of dir takes an aligned direct write.
-bool direct_io_works(const fs::path& dir) {
-  const fs::path probe = dir / "probe";
-  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_DIRECT, 0644);
-  if (fd < 0) return false;
-  void* p = nullptr;
-  bool ok = ::posix_memalign(&p, 4096, 4096) == 0;
-  if (ok) {
-    std::memset(p, 0, 4096);
-    ok = ::write(fd, p, 4096) == 4096;
-  }
-  std::free(p);
-  ::close(fd);
-  fs::remove(probe);
-  return ok;
-}
 
 RC_GTEST_PROP(AtomicFileWrites, HoldsTheWrittenBytesAndTheirHash, ()) {
   // Sizes around the block: empty writes, small ones, ones that end a block exactly, and
@@ -73,7 +57,7 @@ RC_GTEST_PROP(AtomicFileWrites, HoldsTheWrittenBytesAndTheirHash, ()) {
 
 TEST(AtomicFileWrites, LargeFileGoesDirectWhereTheFileSystemTakesIt) {
   TempDir dir;
-  if (!direct_io_works(dir.path())) GTEST_SKIP() << dir.path() << ": the file system refuses direct I/O";
+  if (!test::direct_io_works(dir.path())) GTEST_SKIP() << dir.path() << ": the file system refuses direct I/O";
   const std::string big = test::byte_pattern(2 * kBlock + 12345, 7), small = test::byte_pattern(kBlock, 8);
   AtomicFile f(dir.path(), "big.bin"), g(dir.path(), "small.bin");
   f.write(big);
@@ -87,32 +71,103 @@ TEST(AtomicFileWrites, LargeFileGoesDirectWhereTheFileSystemTakesIt) {
   EXPECT_EQ(fs::file_size(dir.path() / "big.bin"), big.size());
 }
 
+// The file-size limit (RLIMIT_FSIZE) lowered to `bytes` while it lives: a write past it
+// fails with EFBIG (SIGXFSZ ignored), on whichever thread makes it.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    EXPECT_EQ(::getrlimit(RLIMIT_FSIZE, &before_), 0);
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = before_;
+    limit.rlim_cur = bytes;
+    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &before_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+
+ private:
+  rlimit before_{};
+  void (*old_handler_)(int) = SIG_DFL;
+};
+
 // A block that cannot be written (here: the file-size limit, EFBIG, on the writer's thread)
 // is a RunError on the caller's thread, already at the next block handed over (not only at
 // commit, whose own tail write would fail too), and the temporary file is gone.
 TEST(AtomicFileWrites, AFailedBlockIsARunErrorAndLeavesNothing) {
   TempDir dir;
-  rlimit before{};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit limit = before;
-  limit.rlim_cur = kBlock + kBlock / 2;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
   std::string error;
   bool committing = false;
-  try {
-    AtomicFile f(dir.path(), "big.bin");
-    for (int k = 0; k < 4; ++k) f.write(test::byte_pattern(kBlock, static_cast<std::uint32_t>(k)));
-    committing = true;
-    f.commit();
-  } catch (const RunError& e) {
-    error = e.what();
+  {
+    FileSizeLimit limit(kBlock + kBlock / 2);
+    try {
+      AtomicFile f(dir.path(), "big.bin");
+      for (int k = 0; k < 4; ++k) f.write(test::byte_pattern(kBlock, static_cast<std::uint32_t>(k)));
+      committing = true;
+      f.commit();
+    } catch (const RunError& e) {
+      error = e.what();
+    }
   }
-  ::setrlimit(RLIMIT_FSIZE, &before);
-  std::signal(SIGXFSZ, old_handler);
   EXPECT_FALSE(committing) << "the failed block was reported only at commit";
   EXPECT_NE(error.find("cannot write"), std::string::npos) << error;
   EXPECT_NE(error.find("big.bin"), std::string::npos) << error;
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+// A failed block is a RunError at the next write() even when that write hands over no block
+// (a byte at a time here: the buffer would take four million of them before the next block),
+// and from then on every write() and commit() throws the same error: a caller that goes on
+// after the first (an std::ostream keeps only a badbit) cannot commit a file that lacks bytes.
+TEST(AtomicFileWrites, AFailedBlockIsARunErrorAtTheNextWriteAndAtEveryCallAfter) {
+  TempDir dir;
+  FileSizeLimit limit(kBlock / 2);
+  {
+    AtomicFile f(dir.path(), "big.bin");
+    f.write(test::byte_pattern(kBlock + 10, 4));  // the first block goes to the writer thread
+    std::string first;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    std::size_t bytes = 0;
+    while (first.empty() && std::chrono::steady_clock::now() < deadline) {
+      try {
+        f.write("x");
+        ++bytes;
+      } catch (const RunError& e) {
+        first = e.what();
+      }
+      if (first.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_FALSE(first.empty()) << "no write() reported the failed block within 30 s (" << bytes << " bytes)";
+    EXPECT_LT(bytes, kBlock) << "the failure waited for the next block";
+    EXPECT_NE(first.find("big.bin"), std::string::npos) << first;
+    try {
+      f.write("more");
+      ADD_FAILURE() << "a write() after the failure did not throw";
+    } catch (const RunError& e) {
+      EXPECT_EQ(std::string(e.what()), first);
+    }
+    try {
+      f.commit();
+      ADD_FAILURE() << "commit() after the failure did not throw";
+    } catch (const RunError& e) {
+      EXPECT_EQ(std::string(e.what()), first);
+    }
+  }
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+// The last block failing, with no write() after it: commit() reports it, and renames nothing.
+TEST(AtomicFileWrites, AFailedLastBlockIsARunErrorAtCommit) {
+  TempDir dir;
+  FileSizeLimit limit(kBlock + kBlock / 2);
+  {
+    AtomicFile f(dir.path(), "big.bin");
+    // Two blocks and a tail in one call: the second block is handed over after the first is
+    // written (which fits under the limit), so this call cannot see the second's failure.
+    ASSERT_NO_THROW(f.write(test::byte_pattern(2 * kBlock + 100, 5)));
+    EXPECT_THROW(f.commit(), RunError);
+  }
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 

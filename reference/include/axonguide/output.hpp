@@ -26,6 +26,8 @@ class AtomicFile {
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
 
+  // Appends text. Throws RunError on a failure, including a block's failure on the writer
+  // thread since the last call; after one failure every later write() and commit() throws it.
   void write(std::string_view text);
   // Flushes, syncs and renames into place; returns the hex SHA-256 of the bytes
   // written. Throws RunError on any I/O failure.
@@ -51,6 +53,7 @@ class AtomicFile {
   bool wrote_direct_ = false;
   Sync sync_;
   void* digest_ = nullptr;  // EVP_MD_CTX, hashed as bytes are written
+  std::string failed_;      // the first write's failure, thrown again by every later call
   // The block being filled and the one the writer has, each aligned to 4096 bytes, as
   // direct I/O needs; the writer exists once the file has outgrown one block.
   std::unique_ptr<char, Free> buffer_, spare_;

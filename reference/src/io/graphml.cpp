@@ -21,11 +21,13 @@ namespace axg {
 
 namespace {
 
-// std::ostream onto an AtomicFile.
+// std::ostream onto an AtomicFile. The stream must be flushed by its user: the destructor
+// writes nothing, because a write can throw (a full disk) and a destructor must not. The
+// stream is to rethrow the AtomicFile's RunError (exceptions(badbit)); the AtomicFile keeps
+// the failure in any case, so its commit() throws it too.
 class FileBuf : public std::streambuf {
  public:
   explicit FileBuf(AtomicFile& f) : f_(f) { setp(buf_, buf_ + sizeof buf_); }
-  ~FileBuf() override { sync(); }
 
  protected:
   int_type overflow(int_type ch) override {
@@ -113,6 +115,7 @@ void write_graphml(const RunResult& r, AtomicFile& file) {
 
   FileBuf buf(file);
   std::ostream os(&buf);
+  os.exceptions(std::ios::badbit);  // the RunError of a failed write, not a silent badbit
   boost::write_graphml(os, g, dp, true);
   os.flush();
 }

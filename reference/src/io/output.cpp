@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <condition_variable>
 #include <cstdlib>
@@ -89,6 +90,9 @@ class AtomicFile::BlockWriter {
     return direct_;
   }
   bool wrote_direct() const { return wrote_direct_; }  // after finish()
+  // Whether a block has failed (finish() then throws why): write() asks before each piece,
+  // so a failure is a RunError at the next write, not only at the next block handed over.
+  bool failed() const { return failed_.load(std::memory_order_acquire); }
 
  private:
   void run() {
@@ -104,7 +108,10 @@ class AtomicFile::BlockWriter {
         error = e.what();
       }
       lock.lock();
-      if (error_.empty()) error_ = std::move(error);
+      if (error_.empty() && !error.empty()) {
+        error_ = std::move(error);
+        failed_.store(true, std::memory_order_release);
+      }
       job_ = nullptr;
       cv_.notify_all();
     }
@@ -141,15 +148,25 @@ class AtomicFile::BlockWriter {
   std::size_t job_size_ = 0;
   bool stop_ = false;
   std::string error_;  // the first block's failure
+  std::atomic<bool> failed_{false};  // error_ is set
   std::thread thread_;  // last: started once the rest is constructed
 };
 
+// The digest first: a constructor that throws runs no destructor, so nothing may be open
+// or on the disk yet when the last thing that can fail, the open, fails.
 AtomicFile::AtomicFile(const fs::path& dir, const std::string& name, Sync sync)
     : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())), sync_(sync) {
-  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd_ < 0) throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(errno)));
   auto* ctx = EVP_MD_CTX_new();
-  if (!ctx || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) throw RunError("SHA-256 unavailable");
+  if (!ctx || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) {
+    EVP_MD_CTX_free(ctx);
+    throw RunError("SHA-256 unavailable");
+  }
+  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd_ < 0) {
+    const int err = errno;
+    EVP_MD_CTX_free(ctx);
+    throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(err)));
+  }
   digest_ = ctx;
 }
 
@@ -195,27 +212,43 @@ void AtomicFile::grow(std::size_t at_least) {
   capacity_ = capacity;
 }
 
+// Each piece is hashed as it is buffered, so the hash covers exactly the bytes the file
+// gets. The first failure (a block the writer thread could not write, a buffer or a thread
+// that could not be had) is kept: every later write() and commit() throws it, so a caller
+// that goes on after one (an std::ostream swallows its streambuf's exceptions) cannot
+// commit a file that lacks bytes.
 void AtomicFile::write(std::string_view text) {
-  EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(digest_), text.data(), text.size());
-  while (!text.empty()) {
-    if (size_ == capacity_) {
-      if (capacity_ < kDirectBlock) {
-        grow(size_ + text.size());
-      } else {
-        if (!blocks_) spare_ = aligned_buffer(kDirectBlock), blocks_ = std::make_unique<BlockWriter>(fd_, temp_);
-        blocks_->submit(buffer_.get(), size_);  // the spare is free once this returns
-        std::swap(buffer_, spare_);
-        size_ = 0;
+  if (!failed_.empty()) throw RunError(failed_);
+  try {
+    if (blocks_ && blocks_->failed()) blocks_->finish();  // throws the block's failure
+    while (!text.empty()) {
+      if (size_ == capacity_) {
+        if (capacity_ < kDirectBlock) {
+          grow(size_ + text.size());
+        } else {
+          if (!blocks_) spare_ = aligned_buffer(kDirectBlock), blocks_ = std::make_unique<BlockWriter>(fd_, temp_);
+          blocks_->submit(buffer_.get(), size_);  // the spare is free once this returns
+          std::swap(buffer_, spare_);
+          size_ = 0;
+        }
       }
+      const std::size_t n = std::min(text.size(), capacity_ - size_);
+      std::memcpy(buffer_.get() + size_, text.data(), n);
+      EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(digest_), text.data(), n);
+      size_ += n;
+      text.remove_prefix(n);
     }
-    const std::size_t n = std::min(text.size(), capacity_ - size_);
-    std::memcpy(buffer_.get() + size_, text.data(), n);
-    size_ += n;
-    text.remove_prefix(n);
+  } catch (const RunError& e) {
+    failed_ = e.what();
+    throw;
+  } catch (const std::exception& e) {
+    failed_ = fmt::format("cannot write {}: {}", temp_.string(), e.what());
+    throw RunError(failed_);
   }
 }
 
 std::string AtomicFile::commit() {
+  if (!failed_.empty()) throw RunError(failed_);
   fault_point("output " + final_.filename().string());
   // The tail through the page cache (direct I/O takes whole blocks only).
   if (blocks_) {

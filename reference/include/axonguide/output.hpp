@@ -17,9 +17,10 @@ namespace axg {
 // and every smaller file, through the page cache.
 class AtomicFile {
  public:
-  // kFile: commit() syncs the file before the rename. kDeferred: commit() starts the
-  // write-back and renames without waiting for it; the writer of many files syncs them
-  // all at once with sync_filesystem before anything (the manifest) names them.
+  // kFile: commit() syncs the file before the rename and its directory after it.
+  // kDeferred: commit() starts the write-back and renames without waiting for it; the
+  // writer of many files syncs them all at once with sync_filesystem before anything (the
+  // manifest) names them.
   enum class Sync { kFile, kDeferred };
   AtomicFile(const std::filesystem::path& dir, const std::string& name, Sync sync = Sync::kFile);
   ~AtomicFile();

@@ -53,6 +53,15 @@ void write_all(int fd, const char* data, std::size_t n, const fs::path& name) {
   }
 }
 
+// fsync of a directory: its entries (a rename into it) on disk.
+void sync_directory(const fs::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const bool ok = fd >= 0 && ::fsync(fd) == 0;
+  const int err = errno;
+  if (fd >= 0) ::close(fd);
+  if (!ok) throw RunError(fmt::format("cannot sync {}: {}", dir.string(), std::strerror(err)));
+}
+
 }  // namespace
 
 // Whole blocks go to the file on this thread, one at a time, in order, while the caller
@@ -273,6 +282,10 @@ std::string AtomicFile::commit() {
   fs::rename(temp_, final_, ec);
   if (ec) throw RunError(fmt::format("cannot rename {} to {}: {}", temp_.string(), final_.string(), ec.message()));
   committed_ = true;
+  // kFile: the rename itself on disk too (the directory's entry), so that a file that
+  // commit() returned for (a manifest, a checkpoint) is found under its name after a power
+  // loss. kDeferred files are covered by sync_filesystem, which syncs the directories too.
+  if (sync_ == Sync::kFile) sync_directory(final_.parent_path());
   unsigned char md[EVP_MAX_MD_SIZE];
   unsigned int len = 0;
   EVP_DigestFinal_ex(static_cast<EVP_MD_CTX*>(digest_), md, &len);

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -214,6 +215,10 @@ int report_error(std::exception_ptr error) {
 }  // namespace axg::app
 
 int main(int argc, char** argv) {
+  // A write past the file-size limit (ulimit -f) fails with EFBIG, which every writer reports
+  // as a RunError naming the file (exit 3, nothing half-written), instead of the default
+  // SIGXFSZ, which kills the process before it can say anything or clean up.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     return dispatch(argc, argv);
   } catch (...) {

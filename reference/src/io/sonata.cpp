@@ -48,6 +48,19 @@ constexpr std::array<const char*, 4> kStatusNames = {"growing", "connected", "ex
 
 [[noreturn]] void fail(const char* what) { throw RunError(fmt::format("SONATA output: HDF5 {} failed", what)); }
 
+// Closes that fail in a Handle's destructor (a dataset whose cached rows cannot be written,
+// say), counted on the thread that writes the file, so that H5Output::commit() refuses the
+// file: a destructor must not throw. A file is written on one thread (sweeps write several
+// at once, each on its own).
+thread_local std::uint64_t t_failed_closes = 0;
+
+// HDF5 1.10.8 (Debian 12's) frees a file whose close failed (a full disk, say) but keeps its
+// identifier, and its exit-time cleanup then closes it again and crashes the process
+// (HDFFV-11052, fixed in HDF5 1.14.1): a failed SONATA write would end in SIGSEGV, not in
+// its RunError's exit code. This writer closes every file it opens itself, so that cleanup
+// has nothing to do; it is switched off here, at load time, before the library starts.
+[[maybe_unused]] const herr_t kNoExitCleanup = H5dont_atexit();
+
 void ok(herr_t status, const char* what) {
   if (status < 0) fail(what);
 }
@@ -59,7 +72,7 @@ class Handle {
     if (id_ < 0) fail(what);
   }
   ~Handle() {
-    if (id_ >= 0) close_(id_);
+    if (id_ >= 0 && close_(id_) < 0) ++t_failed_closes;
   }
   Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
   Handle(const Handle&) = delete;
@@ -228,8 +241,15 @@ class H5Output {
  public:
   H5Output(const fs::path& dir, const std::string& name)
       : name_(name), final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())), file_(create()) {
-    scalar_attribute(file_, "version", kSonataVersion, 2);
-    scalar_attribute(file_, "magic", &kSonataMagic, 1);
+    try {
+      scalar_attribute(file_, "version", kSonataVersion, 2);
+      scalar_attribute(file_, "magic", &kSonataMagic, 1);
+    } catch (...) {  // no destructor runs after a constructor throws
+      file_.close();
+      std::error_code ec;
+      fs::remove(temp_, ec);
+      throw;
+    }
   }
   ~H5Output() {
     if (committed_) return;
@@ -241,8 +261,12 @@ class H5Output {
   H5Output& operator=(const H5Output&) = delete;
   operator hid_t() const { return file_; }
 
-  // Closes, syncs and renames the file into place.
+  // Flushes, closes, syncs and renames the file into place. Every object in it must be
+  // closed first (H5F_CLOSE_SEMI: H5Fclose fails otherwise, instead of leaving the file open
+  // until the last object closes, after the rename), and none may have failed to close.
   void commit() {
+    if (t_failed_closes != closes_before_) fail("H5Dclose or H5Gclose");
+    ok(H5Fflush(file_, H5F_SCOPE_LOCAL), "H5Fflush");
     if (file_.close() < 0) fail("H5Fclose");
     const int fd = ::open(temp_.c_str(), O_RDONLY);
     const bool synced = fd >= 0 && ::fsync(fd) == 0;
@@ -261,10 +285,12 @@ class H5Output {
   fs::path final_, temp_;
   Handle file_;
   bool committed_ = false;
+  std::uint64_t closes_before_ = t_failed_closes;
 
   Handle create() {
     Handle fapl = property_list(H5P_FILE_ACCESS), fcpl = property_list(H5P_FILE_CREATE);
     ok(H5Pset_libver_bounds(fapl, H5F_LIBVER_EARLIEST, H5F_LIBVER_V18), "H5Pset_libver_bounds");
+    ok(H5Pset_fclose_degree(fapl, H5F_CLOSE_SEMI), "H5Pset_fclose_degree");
 #if H5_VERSION_GE(1, 10, 7)
     // The temporary is this process's own; no lock (which some file systems refuse).
     ok(H5Pset_file_locking(fapl, false, true), "H5Pset_file_locking");
@@ -280,41 +306,43 @@ void write_nodes(const RunResult& r, const fs::path& dir) {
   const std::size_t n = r.neurons.size();
   const double um = r.scene.units.micrometres();
   H5Output f(dir, "nodes.h5");
-  Handle nodes = group(f, "nodes");
-  Handle pop = group(nodes, kNodePopulation);
-  streamed_column<std::uint64_t>(pop, "node_id", n, fill_iota);
-  streamed_column<std::uint64_t>(pop, "node_group_index", n, fill_iota);
-  streamed_column<std::uint32_t>(pop, "node_type_id", n, fill_zeros);
-  streamed_column<std::uint32_t>(pop, "node_group_id", n, fill_zeros);
-  Handle g0 = group(pop, "0");
-  constexpr double core::Vec3::*kAxes[] = {&core::Vec3::x, &core::Vec3::y, &core::Vec3::z};
-  constexpr const char* kNames[] = {"x", "y", "z"};
-  for (int a = 0; a < 3; ++a)
+  {  // every object closed before the commit
+    Handle nodes = group(f, "nodes");
+    Handle pop = group(nodes, kNodePopulation);
+    streamed_column<std::uint64_t>(pop, "node_id", n, fill_iota);
+    streamed_column<std::uint64_t>(pop, "node_group_index", n, fill_iota);
+    streamed_column<std::uint32_t>(pop, "node_type_id", n, fill_zeros);
+    streamed_column<std::uint32_t>(pop, "node_group_id", n, fill_zeros);
+    Handle g0 = group(pop, "0");
+    constexpr double core::Vec3::*kAxes[] = {&core::Vec3::x, &core::Vec3::y, &core::Vec3::z};
+    constexpr const char* kNames[] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a)
+      streamed_column<double>(
+          g0, kNames[a], n,
+          [&](std::size_t begin, double* out, std::size_t size) {
+            for (std::size_t k = 0; k < size; ++k) out[k] = canonical(r.soma[begin + k].*kAxes[a] * um);
+          },
+          "um");
+    const double soma_radius = canonical(r.scene.neurons.soma_radius * um);
     streamed_column<double>(
-        g0, kNames[a], n,
+        g0, "soma_radius", n,
+        [&](std::size_t, double* out, std::size_t size) { std::fill(out, out + size, soma_radius); }, "um");
+    streamed_column<double>(
+        g0, "axon_length", n,
         [&](std::size_t begin, double* out, std::size_t size) {
-          for (std::size_t k = 0; k < size; ++k) out[k] = canonical(r.soma[begin + k].*kAxes[a] * um);
+          for (std::size_t k = 0; k < size; ++k) out[k] = canonical(r.neurons.length[begin + k] * um);
         },
         "um");
-  const double soma_radius = canonical(r.scene.neurons.soma_radius * um);
-  streamed_column<double>(
-      g0, "soma_radius", n,
-      [&](std::size_t, double* out, std::size_t size) { std::fill(out, out + size, soma_radius); }, "um");
-  streamed_column<double>(
-      g0, "axon_length", n,
-      [&](std::size_t begin, double* out, std::size_t size) {
-        for (std::size_t k = 0; k < size; ++k) out[k] = canonical(r.neurons.length[begin + k] * um);
-      },
-      "um");
-  streamed_column<std::uint8_t>(g0, "status", n, [&](std::size_t begin, std::uint8_t* out, std::size_t size) {
-    for (std::size_t k = 0; k < size; ++k) out[k] = static_cast<std::uint8_t>(r.neurons.status[begin + k]);
-  });
-  column(g0, "steps", r.neurons.steps);
-  if (r.graph.bfs) column(g0, "bfs_level", r.graph.bfs->level);
-  if (!r.graph.component.empty()) column(g0, "component", r.graph.component);
-  {
-    Handle library = group(g0, "@library");
-    strings(library, "status", std::vector<std::string>(kStatusNames.begin(), kStatusNames.end()));
+    streamed_column<std::uint8_t>(g0, "status", n, [&](std::size_t begin, std::uint8_t* out, std::size_t size) {
+      for (std::size_t k = 0; k < size; ++k) out[k] = static_cast<std::uint8_t>(r.neurons.status[begin + k]);
+    });
+    column(g0, "steps", r.neurons.steps);
+    if (r.graph.bfs) column(g0, "bfs_level", r.graph.bfs->level);
+    if (!r.graph.component.empty()) column(g0, "component", r.graph.component);
+    {
+      Handle library = group(g0, "@library");
+      strings(library, "status", std::vector<std::string>(kStatusNames.begin(), kStatusNames.end()));
+    }
   }
   f.commit();
 }
@@ -367,55 +395,57 @@ void write_edges(const RunResult& r, const fs::path& dir) {
   const std::size_t m = source.size();
   auto target_of = [&](std::size_t e) { return nr.target[source[e]]; };
   H5Output f(dir, "edges.h5");
-  Handle edges = group(f, "edges");
-  Handle pop = group(edges, kEdgePopulation);
-  {
-    Handle set = streamed_column<std::uint64_t>(pop, "source_node_id", m,
-                                                [&](std::size_t begin, std::uint64_t* out, std::size_t size) {
-                                                  for (std::size_t k = 0; k < size; ++k) out[k] = source[begin + k];
-                                                });
-    string_attribute(set, "node_population", kNodePopulation);
-  }
-  {
-    Handle set = streamed_column<std::uint64_t>(pop, "target_node_id", m,
-                                                [&](std::size_t begin, std::uint64_t* out, std::size_t size) {
-                                                  for (std::size_t k = 0; k < size; ++k) out[k] = target_of(begin + k);
-                                                });
-    string_attribute(set, "node_population", kNodePopulation);
-  }
-  streamed_column<std::uint32_t>(pop, "edge_type_id", m, fill_zeros);
-  streamed_column<std::uint32_t>(pop, "edge_group_id", m, fill_zeros);
-  streamed_column<std::uint64_t>(pop, "edge_group_index", m, fill_iota);
-  Handle g0 = group(pop, "0");
-  streamed_column<std::uint32_t>(g0, "step", m, [&](std::size_t begin, std::uint32_t* out, std::size_t size) {
-    for (std::size_t k = 0; k < size; ++k) out[k] = nr.steps[source[begin + k]];
-  });
-  auto length_of = [&](std::size_t e) { return canonical(nr.length[source[e]] * um); };
-  streamed_column<double>(
-      g0, "length", m,
-      [&](std::size_t begin, double* out, std::size_t size) {
-        for (std::size_t k = 0; k < size; ++k) out[k] = length_of(begin + k);
-      },
-      "um");
-  {
-    Handle set = streamed_column<double>(
-        g0, "delay", m,
+  {  // every object closed before the commit
+    Handle edges = group(f, "edges");
+    Handle pop = group(edges, kEdgePopulation);
+    {
+      Handle set = streamed_column<std::uint64_t>(pop, "source_node_id", m,
+                                                  [&](std::size_t begin, std::uint64_t* out, std::size_t size) {
+                                                    for (std::size_t k = 0; k < size; ++k) out[k] = source[begin + k];
+                                                  });
+      string_attribute(set, "node_population", kNodePopulation);
+    }
+    {
+      Handle set = streamed_column<std::uint64_t>(pop, "target_node_id", m,
+                                                  [&](std::size_t begin, std::uint64_t* out, std::size_t size) {
+                                                    for (std::size_t k = 0; k < size; ++k) out[k] = target_of(begin + k);
+                                                  });
+      string_attribute(set, "node_population", kNodePopulation);
+    }
+    streamed_column<std::uint32_t>(pop, "edge_type_id", m, fill_zeros);
+    streamed_column<std::uint32_t>(pop, "edge_group_id", m, fill_zeros);
+    streamed_column<std::uint64_t>(pop, "edge_group_index", m, fill_iota);
+    Handle g0 = group(pop, "0");
+    streamed_column<std::uint32_t>(g0, "step", m, [&](std::size_t begin, std::uint32_t* out, std::size_t size) {
+      for (std::size_t k = 0; k < size; ++k) out[k] = nr.steps[source[begin + k]];
+    });
+    auto length_of = [&](std::size_t e) { return canonical(nr.length[source[e]] * um); };
+    streamed_column<double>(
+        g0, "length", m,
         [&](std::size_t begin, double* out, std::size_t size) {
-          for (std::size_t k = 0; k < size; ++k) out[k] = canonical(length_of(begin + k) / (speed * 1000.0));
+          for (std::size_t k = 0; k < size; ++k) out[k] = length_of(begin + k);
         },
-        "ms");
-    scalar_attribute(set, "conduction_speed", &speed, 1);
-    string_attribute(set, "conduction_speed_units", "m/s");
+        "um");
+    {
+      Handle set = streamed_column<double>(
+          g0, "delay", m,
+          [&](std::size_t begin, double* out, std::size_t size) {
+            for (std::size_t k = 0; k < size; ++k) out[k] = canonical(length_of(begin + k) / (speed * 1000.0));
+          },
+          "ms");
+      scalar_attribute(set, "conduction_speed", &speed, 1);
+      string_attribute(set, "conduction_speed_units", "m/s");
+    }
+    {
+      // The same delays where PyNN's importer looks for per-edge synapse parameters: a
+      // second (hard) link to the one dataset, not a copy.
+      Handle dynamics = group(g0, "dynamics_params");
+      ok(H5Lcreate_hard(g0, "delay", dynamics, "delay", H5P_DEFAULT, H5P_DEFAULT), "H5Lcreate_hard");
+    }
+    Handle indices = group(pop, "indices");
+    edge_index(indices, "source_to_target", m, [&](std::size_t e) { return source[e]; }, nr.size());
+    edge_index(indices, "target_to_source", m, target_of, nr.size());
   }
-  {
-    // The same delays where PyNN's importer looks for per-edge synapse parameters: a
-    // second (hard) link to the one dataset, not a copy.
-    Handle dynamics = group(g0, "dynamics_params");
-    ok(H5Lcreate_hard(g0, "delay", dynamics, "delay", H5P_DEFAULT, H5P_DEFAULT), "H5Lcreate_hard");
-  }
-  Handle indices = group(pop, "indices");
-  edge_index(indices, "source_to_target", m, [&](std::size_t e) { return source[e]; }, nr.size());
-  edge_index(indices, "target_to_source", m, target_of, nr.size());
   f.commit();
 }
 
@@ -447,14 +477,25 @@ void write_sonata(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   fs::create_directories(net, ec);
   if (ec) throw RunError(fmt::format("cannot create {}: {}", net.string(), ec.message()));
   // nodes.h5 is hashed (from disk: HDF5 writes out of order) while edges.h5 is written.
+  // An HDF5 failure names the file (HDF5 prints its own error stack on stderr).
+  auto written = [&](const char* name, void (*write)(const RunResult&, const fs::path&)) {
+    try {
+      write(r, net);
+    } catch (const RunError& e) {
+      throw RunError(fmt::format("cannot write {}: {}", (net / name).string(), e.what()));
+    }
+  };
   std::string nodes_hash;
   tbb::task_group hashing;
-  write_nodes(r, net);
+  written("nodes.h5", write_nodes);
   hashing.run([&] { nodes_hash = sha256_file(net / "nodes.h5"); });
   try {
-    write_edges(r, net);
+    written("edges.h5", write_edges);
   } catch (...) {
-    hashing.wait();
+    try {
+      hashing.wait();
+    } catch (...) {  // edges.h5's failure is the one to report
+    }
     throw;
   }
   hashing.wait();

@@ -1,6 +1,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <csignal>
 
 #include <chrono>
@@ -164,11 +165,14 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
              r.times.total("graph"));
 }
 
-// SIGINT and SIGTERM set a flag; the run stops at the end of the current step.
-volatile std::sig_atomic_t g_signal = 0;
+// SIGINT and SIGTERM set a flag; the run stops at the end of the current step. The handler
+// may run on any thread (a TBB worker, a file's writer thread) while the main thread reads
+// the flag: a lock-free atomic, which a signal handler may use, not a volatile.
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
 
 // Ranks other than 0 of a decomposed run stop as quietly as they run.
-volatile std::sig_atomic_t g_quiet = 0;
+std::atomic<int> g_quiet{0};
 
 extern "C" void on_stop_signal(int sig) {
   if (g_signal == 0 && g_quiet == 0) {
@@ -379,6 +383,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
     options.make_engine = engine_factory(args.backend);
     if (!resuming) {
       check_run_memory(job.scene, ranks);
+      check_scene_runs(job.scene);  // grids, count, packing: before --force removes anything
       if (ranks) ranks->run = std::make_unique<distributed::DecomposedRun>(job.scene, ranks->comm);
     }
   });
@@ -417,6 +422,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
                      dir.c_str());
     } else {
       claim = claim_run_folder(dir, args.force);
+      refuse_foreign_in_the_way(dir, claim, job.scene);
     }
     for (const auto& name : claim.foreign)
       if (is_run_output(name) || name == "view.html" || name.rfind("assay", 0) == 0 || name.rfind("plot", 0) == 0)

@@ -189,11 +189,9 @@ class DecomposedParticleField final : public CueField {
 
   // Every rank reads the whole checkpoint and keeps the particles in its block.
   void load(const EngineState& in) override {
+    check_checkpoint_particles(in, cues_.size(), ballistic_);
     next_id_ = in.next_particle_id;
     pos_.clear(), vel_.clear(), id_.clear(), source_.clear();
-    const bool with_vel = ballistic_ && in.particle_vel.size() == in.particle_pos.size();
-    if (ballistic_ && !with_vel)
-      throw std::runtime_error("checkpoint: the ballistic particles have no velocities");
     for (std::size_t i = 0; i < in.particle_pos.size(); ++i) {
       if (d_.owner(in.particle_pos[i]) != rank_) continue;
       pos_.push_back(in.particle_pos[i]);

@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <random>
 #include <thread>
 
@@ -303,6 +305,48 @@ TEST(resume, RefusesAnotherSceneAnotherBuildAndADamagedCheckpoint) {
   EXPECT_EQ(axonguide(fmt::format("run --resume {}/nowhere", t.dir().string()), t.dir()).code, 2);
 }
 
+// A checkpoint that is whole (its hash recomputed) but whose field state does not fit the
+// scene: a grid of another size, a particle of a cue the scene lacks, particle arrays of
+// different lengths. Each is refused with exit 3 and a message, never read past its end.
+TEST(resume, ACheckpointWhoseFieldStateDoesNotFitIsRefused) {
+  std::map<std::string, json> scenes;
+  for (const auto& [name, j] : field_scenes()) scenes[name] = j;
+  struct Edit {
+    const char* scene;
+    const char* what;
+    std::function<void(EngineState&)> edit;
+    const char* message;
+  };
+  const std::vector<Edit> edits = {
+      {"grid-implicit", "a grid one value short", [](EngineState& e) { e.grid.pop_back(); }, "the grid has"},
+      {"particles", "a particle of cue 7", [](EngineState& e) { e.particle_cue.back() = 7; }, "a particle of cue 7"},
+      {"particles", "an id short", [](EngineState& e) { e.particle_id.pop_back(); },
+       "per-particle arrays of different lengths"},
+      {"particles-ballistic-collisions-vtk", "no velocities", [](EngineState& e) { e.particle_vel.clear(); },
+       "no velocities"},
+  };
+  for (const Edit& x : edits) {
+    Trial t(std::string("misfit-") + x.scene, scenes.at(x.scene));
+    const fs::path out = t.dir() / "k";
+    ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", t.scene().string(), out.string()), t.dir(),
+                        "AXG_FAULT_KILL_AT='step 9'")
+                  .code,
+              128 + SIGKILL);
+    RunCheckpoint c = read_checkpoint(out / kCheckpointName);
+    ASSERT_FALSE(c.engine.particle_pos.empty() && c.engine.grid.empty()) << x.scene << ": no field state";
+    x.edit(c.engine);
+    json m = json::parse(test::read_file(out / "manifest.json"));
+    c.progress.scene = parse_scene(m["scene"].dump(), "manifest").scene;  // the hash the checkpoint carries
+    ASSERT_EQ(scene_hash(c.progress.scene), c.scene_hash);
+    write_checkpoint(out, c.progress, c.step, c.engine);
+    if (m.contains("checkpoint")) m["checkpoint"]["sha256"] = sha256_file(out / kCheckpointName);
+    std::ofstream(out / "manifest.json") << m.dump();
+    const Result r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+    EXPECT_EQ(r.code, 3) << x.what << ": " << r.err;
+    EXPECT_NE(r.err.find(x.message), std::string::npos) << x.what << ": " << r.err;
+  }
+}
+
 // The wall-clock interval: with checkpoint_seconds below a step's time every step is
 // checkpointed; with neither setting there is none, and a resume starts from step 0.
 TEST(resume, WallClockCheckpointsAndNone) {
@@ -382,6 +426,87 @@ TEST(run_folder, RefusesAnotherRunsFolderAndForceRemovesExactlyItsFiles) {
   r = axonguide(fmt::format("run {} --out {} -q --force", direct_path.string(), bare.string()), tmp.path());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("no manifest.json"), std::string::npos) << r.err;
+}
+
+// A scene that the run itself would refuse (a cue grid of too many nodes, packing beyond
+// what placement reaches) is refused before --force touches the folder: the complete run in
+// it stays whole. (The grid check was once made only inside the run, after --force had
+// removed the old run's files.)
+TEST(run_folder, ForceWithARefusedSceneKeepsThePreviousRun) {
+  test::TempDir tmp;
+  const fs::path good = tmp.path() / "good.json", out = tmp.path() / "o";
+  std::ofstream(good) << base_scene().dump();
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", good.string(), out.string()), tmp.path()).code, 0);
+  const std::map<std::string, std::string> before = outputs(out);
+  json fine_grid = base_scene();
+  fine_grid["cues"]["field"] = "grid";
+  fine_grid["cues"]["grid"]["spacing"] = 1e-4;  // far more nodes per axis than allowed
+  json dense = base_scene();
+  dense["neurons"]["count"] = 200000;  // a packing fraction (1.28) above the densest packing (0.74)
+  for (const auto& [name, scene, code] : {std::tuple{"fine-grid", fine_grid, 2}, std::tuple{"dense", dense, 3}}) {
+    const fs::path path = tmp.path() / (std::string(name) + ".json");
+    std::ofstream(path) << scene.dump();
+    const Result r = axonguide(fmt::format("run {} --out {} -q --force", path.string(), out.string()), tmp.path());
+    EXPECT_EQ(r.code, code) << name << ": " << r.err;
+    EXPECT_EQ(outputs(out), before) << name << ": the previous run's files changed: " << r.err;
+    EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0) << name;
+  }
+}
+
+// A file under a run output's name that the old manifest does not list is not the old run's
+// to replace: when the new run would write it (or remove it, failing), --force refuses and
+// leaves the folder as it was.
+TEST(run_folder, ForceRefusesToWriteOverAFileTheOldManifestDoesNotList) {
+  test::TempDir tmp;
+  json direct = base_scene();
+  direct["guidance"]["model"] = "direct";
+  direct["output"]["paths"] = false;
+  const fs::path direct_path = tmp.path() / "direct.json", cue_path = tmp.path() / "cue.json", out = tmp.path() / "o";
+  std::ofstream(direct_path) << direct.dump();
+  json cue = base_scene();
+  cue["output"]["vtk"] = true;
+  std::ofstream(cue_path) << cue.dump();
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", direct_path.string(), out.string()), tmp.path()).code, 0);
+  std::ofstream(out / "paths.csv") << "mine\n";  // the direct run writes no paths.csv
+  fs::create_directories(out / "vtk");
+  std::ofstream(out / "vtk" / "mine.vtp") << "mine too\n";
+  const std::map<std::string, std::string> before = outputs(out);
+  const Result r = axonguide(fmt::format("run {} --out {} -q --force", cue_path.string(), out.string()), tmp.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("paths.csv, vtk/mine.vtp: not listed by the old run's manifest"), std::string::npos) << r.err;
+  EXPECT_EQ(outputs(out), before);
+  EXPECT_EQ(test::read_file(out / "paths.csv"), "mine\n");
+  // Moved away, the same --force replaces the old run.
+  fs::remove(out / "paths.csv");
+  fs::remove_all(out / "vtk");
+  EXPECT_EQ(axonguide(fmt::format("run {} --out {} -q --force", cue_path.string(), out.string()), tmp.path()).code, 0);
+  EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0);
+}
+
+// A manifest whose keys have another type than a run writes (a hand edit, a damaged
+// file) is bad input, exit 2, named, for every command that reads it.
+TEST(run_folder, AManifestKeyOfAnotherTypeIsBadInput) {
+  test::TempDir tmp;
+  const fs::path scene = tmp.path() / "s.json", out = tmp.path() / "o";
+  std::ofstream(scene) << base_scene().dump();
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", scene.string(), out.string()), tmp.path()).code, 0);
+  const json good = json::parse(test::read_file(out / "manifest.json"));
+  for (const auto& [pointer, value, message] :
+       {std::tuple{"/status", json(5), "\"status\" is not a string"},
+        std::tuple{"/created", json::array(), "\"created\" is not a string"},
+        std::tuple{"/axonguide", json("x"), "\"axonguide\" is not an object"},
+        std::tuple{"/axonguide/version", json(1.5), "\"axonguide\".\"version\" is not a string"}}) {
+    json m = good;
+    m[json::json_pointer(pointer)] = value;
+    std::ofstream(out / "manifest.json") << m.dump();
+    for (const std::string& command : {fmt::format("run {} --out {} -q", scene.string(), out.string()),
+                                      fmt::format("run --resume {} -q", out.string())}) {
+      const Result r = axonguide(command, tmp.path());
+      EXPECT_EQ(r.code, 2) << pointer << ", " << command << ": " << r.err;
+      EXPECT_NE(r.err.find(message), std::string::npos) << pointer << ", " << command << ": " << r.err;
+    }
+  }
+  std::ofstream(out / "manifest.json") << good.dump();
 }
 
 // A kill while a --force run replaces an older one leaves a folder whose manifest names

@@ -13,6 +13,13 @@
 
 namespace axg {
 
+struct EngineState;
+
+// A checkpoint's particles before a field takes them: every particle's source among the
+// scene's `cues`, and a velocity for each when the motion is ballistic (read_checkpoint has
+// checked that the arrays are of one length). std::runtime_error: the checkpoint does not fit.
+void check_checkpoint_particles(const EngineState& in, std::size_t cues, bool ballistic);
+
 // Motion and death of every particle (core::particle_step); keep[i] says whether i lives.
 void move_particles(std::uint64_t seed, std::uint32_t step, const std::vector<core::CueParams>& cues,
                     const core::ParticleParams& params, bool ballistic, std::vector<core::Vec3>& pos,

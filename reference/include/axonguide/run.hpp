@@ -89,6 +89,12 @@ struct RunResult {
 // Memory needed for the scene, estimated before anything is allocated.
 std::uint64_t estimate_run_bytes(const Scene& scene);
 
+// What refuses a scene before anything runs, in the order run_scene checks it: the neuron
+// count (32-bit ids), the cue grids and meshes (nodes per axis, memory), and a packing that
+// placement cannot reach. The command calls it before it touches the run folder, so that a
+// refused scene never costs a previous run's files (--force). Throws InputError / RunError.
+void check_scene_runs(const Scene& scene);
+
 // Runs the scene. Throws InputError / RunError.
 RunResult run_scene(const Scene& scene, const RunOptions& options);
 

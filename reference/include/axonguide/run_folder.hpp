@@ -67,6 +67,11 @@ struct FolderClaim {
 };
 FolderClaim claim_run_folder(const std::filesystem::path& dir, bool force);
 
+// Refuses (InputError, exit 2) a claim whose foreign files the new run of `scene` would
+// write over, or remove if it failed: a file under a name the run plans ("paths.csv"), or in
+// a subfolder whose files it writes ("vtk/*.vtp"), that the old manifest does not list.
+void refuse_foreign_in_the_way(const std::filesystem::path& dir, const FolderClaim& claim, const Scene& scene);
+
 // Removes these files of DIR (names relative to it; "vtk/*.vtp" for the VTK frames),
 // the temporary files of killed runs, and vtk/ when it is left empty.
 void remove_run_files(const std::filesystem::path& dir, const std::vector<std::string>& names);

@@ -241,6 +241,10 @@ RunCheckpoint read_checkpoint(const fs::path& path) {
   if (e.axons.tip.size() != n || e.axons.length.size() != n || e.axons.status.size() != n ||
       e.axons.steps.size() != n || e.axons.target.size() != n || e.heading.size() != n)
     in.bad("per-neuron arrays of different lengths");
+  const std::size_t particles = e.particle_pos.size();
+  if (e.particle_id.size() != particles || e.particle_cue.size() != particles ||
+      (!e.particle_vel.empty() && e.particle_vel.size() != particles))
+    in.bad("per-particle arrays of different lengths");
   return c;
 }
 

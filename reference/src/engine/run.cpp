@@ -83,13 +83,18 @@ void summarize_components(GraphAnalysis& a) {
     }
 }
 
-RunResult run_scene(const Scene& scene, const RunOptions& options) {
-  check_memory_estimate(estimate_run_bytes(scene),
-                        fmt::format("a run of {} neurons", scene.neurons.count));
+void check_scene_runs(const Scene& scene) {
   if (scene.neurons.count >= core::kNoNeuron)
     throw InputError(fmt::format("scene: neurons.count = {}: must be below {} (32-bit neuron ids)",
                                  scene.neurons.count, core::kNoNeuron));
   check_cue_fields(scene, make_cues(scene));  // every backend refuses the same grids
+  if (scene.neurons.overlap_reject && scene.neurons.count >= 2) check_packing(scene);
+}
+
+RunResult run_scene(const Scene& scene, const RunOptions& options) {
+  check_memory_estimate(estimate_run_bytes(scene),
+                        fmt::format("a run of {} neurons", scene.neurons.count));
+  check_scene_runs(scene);
   RunCheckpoint* resume = options.resume;
   if (resume && resume->scene_hash != scene_hash(scene))
     throw InputError("--resume: the checkpoint was written for another scene");

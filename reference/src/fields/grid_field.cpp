@@ -3,6 +3,8 @@
 // or lines (implicit); each task writes only its own nodes.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -64,6 +66,10 @@ class GridField final : public CueField {
   }
 
   void load(const EngineState& in) override {
+    const std::size_t values = cues_.size() * geometry_.nodes();
+    if (in.grid.size() != values)
+      throw std::runtime_error("checkpoint: the grid has " + std::to_string(in.grid.size()) +
+                               " values, the scene needs " + std::to_string(values));
     std::copy(in.grid.begin(), in.grid.end(), buffer_[0].begin());
     cur_.assign(cues_.size(), 0);
   }

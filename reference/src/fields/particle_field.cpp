@@ -94,6 +94,7 @@ class ParticleField final : public CueField {
   // The hashed grid is rebuilt by the next step's advance, before anything reads it; the
   // estimate continues from its saved average (the deposits are per-step scratch).
   void load(const EngineState& in) override {
+    check_checkpoint_particles(in, cues_.size(), ballistic_);
     next_id_ = in.next_particle_id;
     pos_ = in.particle_pos;
     vel_ = in.particle_vel;

@@ -1,8 +1,22 @@
 #include "axonguide/particle_stages.hpp"
 
+#include <stdexcept>
+#include <string>
+
 #include <tbb/parallel_for.h>
 
+#include "axonguide/state.hpp"
+
 namespace axg {
+
+void check_checkpoint_particles(const EngineState& in, std::size_t cues, bool ballistic) {
+  if (ballistic && in.particle_vel.size() != in.particle_pos.size())
+    throw std::runtime_error("checkpoint: the ballistic particles have no velocities");
+  for (const std::uint16_t cue : in.particle_cue)
+    if (cue >= cues)
+      throw std::runtime_error("checkpoint: a particle of cue " + std::to_string(cue) + ", the scene has " +
+                               std::to_string(cues));
+}
 
 void move_particles(std::uint64_t seed, std::uint32_t step, const std::vector<core::CueParams>& cues,
                     const core::ParticleParams& params, bool ballistic, std::vector<core::Vec3>& pos,

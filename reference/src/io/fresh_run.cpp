@@ -45,6 +45,7 @@ OutputInfo write_run_folder(const RunResult& result, const fs::path& dir, bool f
     prepare_output_dir(dir);
     FolderLock lock(dir);
     const FolderClaim claim = claim_run_folder(dir, force);
+    refuse_foreign_in_the_way(dir, claim, result.scene);
     if (foreign) *foreign = claim.foreign;
     start_fresh_run(dir, claim, result.scene, backend, threads, warnings);
     try {

@@ -21,6 +21,7 @@
 #include "axonguide/error.hpp"
 #include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
+#include "axonguide/run.hpp"
 #include "axonguide/sonata.hpp"
 #include "axonguide/version.hpp"
 
@@ -125,6 +126,17 @@ json read_manifest(const fs::path& dir) {
   try {
     json j = parse_json_strict(s.str(), p.string());
     if (!j.is_object()) throw InputError("not a JSON object");
+    // The keys the command reads with a default, of the type it reads them as: another type
+    // is a damaged manifest (exit 2), not a JSON library's type error.
+    for (const char* key : {"status", "created"})
+      if (j.contains(key) && !j[key].is_string()) throw InputError(fmt::format("\"{}\" is not a string", key));
+    if (j.contains("axonguide")) {
+      const json& by = j["axonguide"];
+      if (!by.is_object()) throw InputError("\"axonguide\" is not an object");
+      for (const char* key : {"version", "commit"})
+        if (by.contains(key) && !by[key].is_string())
+          throw InputError(fmt::format("\"axonguide\".\"{}\" is not a string", key));
+    }
     return j;
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {} is not a manifest: {}", dir.string(), kManifestName, e.what()));
@@ -310,6 +322,29 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
   }
   std::sort(claim.foreign.begin(), claim.foreign.end());
   return claim;
+}
+
+void refuse_foreign_in_the_way(const fs::path& dir, const FolderClaim& claim, const Scene& scene) {
+  const std::vector<std::string> planned = planned_outputs(scene);
+  auto in_the_way = [&](const std::string& name) {
+    for (const std::string& p : planned) {
+      if (p == name) return true;
+      for (const Subfolder& s : kSubfolders)
+        if (s.pattern && p == s.pattern && is_run_output(name) && name.rfind(std::string(s.name) + "/", 0) == 0)
+          return true;
+    }
+    return false;
+  };
+  std::vector<std::string> hit;
+  for (const std::string& name : claim.foreign)
+    if (in_the_way(name)) hit.push_back(name);
+  if (hit.empty()) return;
+  std::string names;
+  for (const std::string& name : hit) names += (names.empty() ? "" : ", ") + name;
+  const char* them = hit.size() == 1 ? "it" : "them";
+  throw InputError(fmt::format("{}: {}: not listed by the old run's manifest, and this run would write over {}; move "
+                               "{} out of the folder first",
+                               dir.string(), names, them, them));
 }
 
 void remove_run_files(const fs::path& dir, const std::vector<std::string>& names) {

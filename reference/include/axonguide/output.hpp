@@ -65,6 +65,9 @@ class AtomicFile {
 // Writes a whole file atomically (AtomicFile, write, commit); returns its SHA-256.
 std::string write_file_atomically(const std::filesystem::path& dir, const std::string& name, std::string_view text);
 
+// Creates dir (and its parents) for output files; RunError naming it when it cannot.
+void create_output_dir(const std::filesystem::path& dir);
+
 // Syncs the file system that holds dir (syncfs): the deferred AtomicFiles written there
 // are on disk when it returns. Throws RunError when it fails.
 void sync_filesystem(const std::filesystem::path& dir);

@@ -292,6 +292,12 @@ std::string AtomicFile::commit() {
   return to_hex(md, len);
 }
 
+void create_output_dir(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
+}
+
 void sync_filesystem(const fs::path& dir) {
   const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
   const bool ok = fd >= 0 && ::syncfs(fd) == 0;

@@ -32,6 +32,12 @@
 #include "axonguide/fault.hpp"
 #include "axonguide/output.hpp"
 
+// Sweeps write their members' SONATA files on several threads at once: the HDF5 library must
+// be a thread-safe build (Debian's is).
+#if !defined(H5_HAVE_THREADSAFE) || !H5_HAVE_THREADSAFE
+#error "SONATA output needs a thread-safe HDF5 build (H5_HAVE_THREADSAFE): sweeps write from several threads"
+#endif
+
 namespace axg {
 
 namespace fs = std::filesystem;
@@ -473,9 +479,7 @@ std::string circuit_config() {
 
 void write_sonata(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   const fs::path net = dir / "network";
-  std::error_code ec;
-  fs::create_directories(net, ec);
-  if (ec) throw RunError(fmt::format("cannot create {}: {}", net.string(), ec.message()));
+  create_output_dir(net);
   // nodes.h5 is hashed (from disk: HDF5 writes out of order) while edges.h5 is written.
   // An HDF5 failure names the file (HDF5 prints its own error stack on stderr).
   auto written = [&](const char* name, void (*write)(const RunResult&, const fs::path&)) {

@@ -34,7 +34,7 @@ std::string swc_text(const RunResult& r, std::size_t i) {
 
 void write_swc(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   const fs::path mdir = dir / "morphologies";
-  fs::create_directories(mdir);
+  create_output_dir(mdir);
   const std::size_t n = r.neurons.size();
   std::vector<std::string> hashes(n);
   // Many small files: each is renamed into place unsynced, and the file system is synced

@@ -139,7 +139,7 @@ std::vector<std::uint32_t> vtk_frame_steps(const RunResult& r) {
 
 void write_vtk(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   const fs::path vdir = dir / "vtk";
-  fs::create_directories(vdir);
+  create_output_dir(vdir);
   auto emit = [&](const std::string& name, const VtpWriter& w) {
     AtomicFile f(vdir, name, AtomicFile::Sync::kDeferred);  // write_outputs syncs
     w.write(f);

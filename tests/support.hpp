@@ -1,13 +1,16 @@
 #pragma once
 // Helpers shared by the tests: temporary directories, running scenes, hashing outputs.
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
@@ -175,5 +178,32 @@ inline bool direct_io_works(const fs::path& dir) {
   fs::remove(probe, ec);
   return ok;
 }
+
+// The file-size limit (RLIMIT_FSIZE) lowered to `bytes` while it lives, with SIGXFSZ
+// ignored (as the command ignores it): a write past it fails with EFBIG, on whichever
+// thread makes it. std::runtime_error when the limit cannot be set.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    if (::getrlimit(RLIMIT_FSIZE, &before_) != 0) throw std::runtime_error("getrlimit(RLIMIT_FSIZE) failed");
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = before_;
+    limit.rlim_cur = bytes;
+    if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) {
+      std::signal(SIGXFSZ, old_handler_);
+      throw std::runtime_error("setrlimit(RLIMIT_FSIZE) failed");
+    }
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &before_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  rlimit before_{};
+  void (*old_handler_)(int) = SIG_DFL;
+};
 
 }  // namespace axg::test

@@ -5,14 +5,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include <fcntl.h>
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <chrono>
-#include <csignal>
-#include <cstdlib>
-#include <cstring>
 #include <string>
 #include <thread>
 #include <vector>
@@ -71,27 +64,6 @@ TEST(AtomicFileWrites, LargeFileGoesDirectWhereTheFileSystemTakesIt) {
   EXPECT_EQ(fs::file_size(dir.path() / "big.bin"), big.size());
 }
 
-// The file-size limit (RLIMIT_FSIZE) lowered to `bytes` while it lives: a write past it
-// fails with EFBIG (SIGXFSZ ignored), on whichever thread makes it.
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    EXPECT_EQ(::getrlimit(RLIMIT_FSIZE, &before_), 0);
-    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
-    rlimit limit = before_;
-    limit.rlim_cur = bytes;
-    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
-  }
-  ~FileSizeLimit() {
-    ::setrlimit(RLIMIT_FSIZE, &before_);
-    std::signal(SIGXFSZ, old_handler_);
-  }
-
- private:
-  rlimit before_{};
-  void (*old_handler_)(int) = SIG_DFL;
-};
-
 // A block that cannot be written (here: the file-size limit, EFBIG, on the writer's thread)
 // is a RunError on the caller's thread, already at the next block handed over (not only at
 // commit, whose own tail write would fail too), and the temporary file is gone.
@@ -100,7 +72,7 @@ TEST(AtomicFileWrites, AFailedBlockIsARunErrorAndLeavesNothing) {
   std::string error;
   bool committing = false;
   {
-    FileSizeLimit limit(kBlock + kBlock / 2);
+    test::FileSizeLimit limit(kBlock + kBlock / 2);
     try {
       AtomicFile f(dir.path(), "big.bin");
       for (int k = 0; k < 4; ++k) f.write(test::byte_pattern(kBlock, static_cast<std::uint32_t>(k)));
@@ -122,7 +94,7 @@ TEST(AtomicFileWrites, AFailedBlockIsARunErrorAndLeavesNothing) {
 // after the first (an std::ostream keeps only a badbit) cannot commit a file that lacks bytes.
 TEST(AtomicFileWrites, AFailedBlockIsARunErrorAtTheNextWriteAndAtEveryCallAfter) {
   TempDir dir;
-  FileSizeLimit limit(kBlock / 2);
+  test::FileSizeLimit limit(kBlock / 2);
   {
     AtomicFile f(dir.path(), "big.bin");
     f.write(test::byte_pattern(kBlock + 10, 4));  // the first block goes to the writer thread
@@ -160,7 +132,7 @@ TEST(AtomicFileWrites, AFailedBlockIsARunErrorAtTheNextWriteAndAtEveryCallAfter)
 // The last block failing, with no write() after it: commit() reports it, and renames nothing.
 TEST(AtomicFileWrites, AFailedLastBlockIsARunErrorAtCommit) {
   TempDir dir;
-  FileSizeLimit limit(kBlock + kBlock / 2);
+  test::FileSizeLimit limit(kBlock + kBlock / 2);
   {
     AtomicFile f(dir.path(), "big.bin");
     // Two blocks and a tail in one call: the second block is handed over after the first is

@@ -1,14 +1,9 @@
 // A file that cannot be written while the outputs are (a full disk, a file-size limit) is
-// a RunError that names it, with no temporary file left behind, for every kind of writer:
-// here graph.graphml, which Boost.Graph writes through an std::ostream. An ostream keeps its
-// streambuf's exceptions to itself (a badbit) unless told otherwise; before that was
-// handled, the stream's buffer flushed again in its destructor and the second failure,
-// thrown there, ended the process.
+// a RunError that names it, with no temporary file left behind, for the writers that do not
+// write through AtomicFile::write alone: graph.graphml, which Boost.Graph writes through an
+// std::ostream, and SONATA's HDF5 files, which HDF5 writes itself.
 #include <gtest/gtest.h>
 
-#include <sys/resource.h>
-
-#include <csignal>
 #include <string>
 
 #include "support.hpp"
@@ -27,20 +22,15 @@ TEST(OutputFailure, AGraphmlThatCannotBeWrittenIsARunErrorAndLeavesNoTemporaryFi
   test::TempDir dir;
   // The limit lies between the CSV files' sizes and graph.graphml's.
   constexpr rlim_t kLimit = AtomicFile::kDirectBlock + AtomicFile::kDirectBlock / 2;
-  rlimit before{};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit limit = before;
-  limit.rlim_cur = kLimit;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
   std::string error;
-  try {
-    write_outputs(r, dir.path(), "test", 1, {});
-  } catch (const RunError& e) {
-    error = e.what();
+  {
+    test::FileSizeLimit limit(kLimit);
+    try {
+      write_outputs(r, dir.path(), "test", 1, {});
+    } catch (const RunError& e) {
+      error = e.what();
+    }
   }
-  ::setrlimit(RLIMIT_FSIZE, &before);
-  std::signal(SIGXFSZ, old_handler);
   EXPECT_NE(error.find("cannot write"), std::string::npos) << "no RunError: '" << error << "'";
   EXPECT_NE(error.find("graph.graphml"), std::string::npos) << error;
   // The files before it are whole, below the limit, and nothing is half-written.
@@ -51,27 +41,6 @@ TEST(OutputFailure, AGraphmlThatCannotBeWrittenIsARunErrorAndLeavesNoTemporaryFi
     EXPECT_LT(fs::file_size(e.path()), kLimit) << e.path();
   }
 }
-
-// The file-size limit lowered to `bytes` while it lives (SIGXFSZ ignored, as the command
-// does): a write past it fails with EFBIG.
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    EXPECT_EQ(::getrlimit(RLIMIT_FSIZE, &before_), 0);
-    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
-    rlimit limit = before_;
-    limit.rlim_cur = bytes;
-    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
-  }
-  ~FileSizeLimit() {
-    ::setrlimit(RLIMIT_FSIZE, &before_);
-    std::signal(SIGXFSZ, old_handler_);
-  }
-
- private:
-  rlimit before_{};
-  void (*old_handler_)(int) = SIG_DFL;
-};
 
 // SONATA's HDF5 files, failing at their very last byte: HDF5 writes its metadata when the file
 // is flushed and closed, after the rows. That failure too is a RunError naming the file, and
@@ -105,7 +74,7 @@ TEST(OutputFailure, ASonataFileThatCannotBeFinishedIsARunErrorAndLeavesNothing) 
     test::TempDir dir;
     std::string error;
     {
-      FileSizeLimit l(static_cast<rlim_t>(limit));
+      test::FileSizeLimit l(static_cast<rlim_t>(limit));
       try {
         write_outputs(r, dir.path(), "test", 1, {});
       } catch (const RunError& e) {

@@ -437,6 +437,14 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
         for (const auto& name : running["replacing"])
           if (name.is_string() && name.get<std::string>() != kCheckpointName) left.push_back(name.get<std::string>());
       remove_run_files(dir, left);
+      // Running again: an interrupted run's manifest would go on naming a checkpoint that
+      // the next one replaces, and `verify` would call a running folder stopped.
+      if (running.value("status", std::string()) != "running") {
+        running["status"] = "running";
+        running.erase("interrupted");
+        running.erase("checkpoint");
+        write_manifest(dir, running);
+      }
     } else {
       // The running manifest first: from here on a kill leaves a folder whose manifest
       // names every file in it (shared with the Python module's Result.write).

@@ -256,6 +256,32 @@ TEST(resume, SigintAndSigtermStopWithACheckpoint) {
   }
 }
 
+// A resumed run is running again: its manifest no longer says "interrupted" nor names the
+// checkpoint it started from (the next checkpoint replaces that file). Killed then, the
+// folder says "running", and a second resume finishes it with the same bytes.
+TEST(resume, AResumedRunIsRunningAgain) {
+  Trial t("resumed-running", field_scenes()[1].second);
+  const fs::path out = t.dir() / "o";
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", t.scene().string(), out.string()), t.dir(),
+                      "AXG_FAULT_KILL_AT='step 10' AXG_FAULT_SIGNAL=INT")
+                .code,
+            130);
+  ASSERT_EQ(json::parse(test::read_file(out / "manifest.json"))["status"], "interrupted");
+  const Result killed = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir(),
+                                  "AXG_FAULT_KILL_AT='step 18'");
+  ASSERT_EQ(killed.code, 128 + SIGKILL) << killed.err;
+  const json m = json::parse(test::read_file(out / "manifest.json"));
+  EXPECT_EQ(m["status"], "running");
+  EXPECT_FALSE(m.contains("interrupted"));
+  EXPECT_FALSE(m.contains("checkpoint"));
+  EXPECT_EQ(read_checkpoint(out / kCheckpointName).step, 16u);  // checkpoint_every 4
+  const Result v = axonguide("verify " + out.string(), t.dir());
+  EXPECT_EQ(v.code, 1);
+  const Result resumed = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_EQ(outputs(out), t.expected("reference"));
+}
+
 TEST(resume, RefusesAnotherSceneAnotherBuildAndADamagedCheckpoint) {
   Trial t("refusals", field_scenes()[0].second);
   const fs::path out = t.dir() / "k";

@@ -400,6 +400,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
   const bool made_dir = root && !fs::exists(dir);
   std::optional<FolderLock> lock;
   json running;
+  bool mark_running = false;  // a resume: write `running` after its first step
   bool already_complete = false;
   on_root(ranks, [&] {
     prepare_output_dir(dir);
@@ -437,14 +438,14 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
         for (const auto& name : running["replacing"])
           if (name.is_string() && name.get<std::string>() != kCheckpointName) left.push_back(name.get<std::string>());
       remove_run_files(dir, left);
-      // Running again: an interrupted run's manifest would go on naming a checkpoint that
-      // the next one replaces, and `verify` would call a running folder stopped.
-      if (running.value("status", std::string()) != "running") {
-        running["status"] = "running";
-        running.erase("interrupted");
-        running.erase("checkpoint");
-        write_manifest(dir, running);
-      }
+      // Running again, once the first step after the checkpoint is done (so that a resume
+      // refused on the way, a checkpoint that does not fit say, leaves the folder as it
+      // was): an interrupted run's manifest would go on naming a checkpoint that the next
+      // one replaces, and `verify` would call a running folder stopped.
+      mark_running = running.value("status", std::string()) != "running";
+      running["status"] = "running";
+      running.erase("interrupted");
+      running.erase("checkpoint");
     } else {
       // The running manifest first: from here on a kill leaves a folder whose manifest
       // names every file in it (shared with the Python module's Result.write).
@@ -481,7 +482,14 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
   g_quiet = root ? 0 : 1;
   StopSignals signals;
   Progress progress;
-  if (root) options.on_step = [&](const StepStats& s, std::uint32_t steps) { progress.update(s, steps); };
+  if (root)
+    options.on_step = [&](const StepStats& s, std::uint32_t steps) {
+      if (mark_running) {
+        write_manifest(dir, running);
+        mark_running = false;
+      }
+      progress.update(s, steps);
+    };
   options.resume = job.checkpoint ? &*job.checkpoint : nullptr;
   options.on_checkpoint = [&](const RunResult& r, std::uint32_t step, const EngineState& e) {
     if (root) write_checkpoint(dir, r, step, e);  // the others took part in gathering it

@@ -256,9 +256,10 @@ TEST(resume, SigintAndSigtermStopWithACheckpoint) {
   }
 }
 
-// A resumed run is running again: its manifest no longer says "interrupted" nor names the
-// checkpoint it started from (the next checkpoint replaces that file). Killed then, the
-// folder says "running", and a second resume finishes it with the same bytes.
+// A resumed run is running again once its first step is done: its manifest no longer says
+// "interrupted" nor names the checkpoint it started from (the next checkpoint replaces that
+// file). Killed then, the folder says "running", and a second resume finishes it with the
+// same bytes.
 TEST(resume, AResumedRunIsRunningAgain) {
   Trial t("resumed-running", field_scenes()[1].second);
   const fs::path out = t.dir() / "o";
@@ -367,9 +368,11 @@ TEST(resume, ACheckpointWhoseFieldStateDoesNotFitIsRefused) {
     write_checkpoint(out, c.progress, c.step, c.engine);
     if (m.contains("checkpoint")) m["checkpoint"]["sha256"] = sha256_file(out / kCheckpointName);
     std::ofstream(out / "manifest.json") << m.dump();
+    const std::string manifest = test::read_file(out / "manifest.json");
     const Result r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
     EXPECT_EQ(r.code, 3) << x.what << ": " << r.err;
     EXPECT_NE(r.err.find(x.message), std::string::npos) << x.what << ": " << r.err;
+    EXPECT_EQ(test::read_file(out / "manifest.json"), manifest) << x.what << ": a refused resume changed the manifest";
   }
 }
 

@@ -74,12 +74,13 @@ constexpr std::size_t kBlock = AtomicFile::kDirectBlock;
 bool write_under(Mode m) {
   TempDir dir;
   const std::string text = test::byte_pattern(3 * kBlock + 777, 1);
-  mode = m;
-  direct_writes = 0;
+  struct Under {  // the mode for this file only, whatever happens
+    explicit Under(Mode m) { mode = m, direct_writes = 0; }
+    ~Under() { mode = Mode::kPass; }
+  } under(m);
   AtomicFile f(dir.path(), "out.bin");
   for (std::size_t at = 0; at < text.size(); at += 100000) f.write(std::string_view(text).substr(at, 100000));
   const std::string hash = f.commit();
-  mode = Mode::kPass;
   EXPECT_EQ(hash, sha256_hex(text));
   EXPECT_TRUE(test::read_file(dir.path() / "out.bin") == text) << "the file's bytes differ from those written";
   return f.wrote_direct();
@@ -89,6 +90,7 @@ bool write_under(Mode m) {
 class AtomicFileFallback : public ::testing::Test {
  protected:
   void SetUp() override {
+    mode = Mode::kPass, direct_writes = 0;
     TempDir probe;
     if (!test::direct_io_works(probe.path()))
       GTEST_SKIP() << probe.path() << ": the file system refuses direct I/O of its own";

@@ -31,7 +31,8 @@ class AtomicFile {
   // thread since the last call; after one failure every later write() and commit() throws it.
   void write(std::string_view text);
   // Flushes, syncs and renames into place; returns the hex SHA-256 of the bytes
-  // written. Throws RunError on any I/O failure.
+  // written. Throws RunError on any I/O failure; a kFile commit whose directory sync fails
+  // throws after the rename, with the file in place under its name.
   std::string commit();
   const std::filesystem::path& final_path() const { return final_; }
 

@@ -52,7 +52,13 @@ constexpr std::uint32_t kSonataMagic = 0x0A7A;
 // The status enumeration's names, in core::AxonStatus order (name_of).
 constexpr std::array<const char*, 4> kStatusNames = {"growing", "connected", "exited", "max_steps"};
 
-[[noreturn]] void fail(const char* what) { throw RunError(fmt::format("SONATA output: HDF5 {} failed", what)); }
+// An HDF5 call's failure (write_sonata adds the file's name; the writer's own I/O errors,
+// the fsync and the rename, name it already).
+struct Hdf5Error : RunError {
+  using RunError::RunError;
+};
+
+[[noreturn]] void fail(const char* what) { throw Hdf5Error(fmt::format("SONATA output: HDF5 {} failed", what)); }
 
 // Closes that fail in a Handle's destructor (a dataset whose cached rows cannot be written,
 // say), counted on the thread that writes the file, so that H5Output::commit() refuses the
@@ -64,8 +70,12 @@ thread_local std::uint64_t t_failed_closes = 0;
 // identifier, and its exit-time cleanup then closes it again and crashes the process
 // (HDFFV-11052, fixed in HDF5 1.14.1): a failed SONATA write would end in SIGSEGV, not in
 // its RunError's exit code. This writer closes every file it opens itself, so that cleanup
-// has nothing to do; it is switched off here, at load time, before the library starts.
-[[maybe_unused]] const herr_t kNoExitCleanup = H5dont_atexit();
+// has nothing to do: the first file it creates switches it off, which takes effect when the
+// library is not started yet (the command's case; a process that used HDF5 before, through
+// h5py say, keeps its cleanup, and a program that never writes SONATA is not touched).
+void no_exit_cleanup() {
+  [[maybe_unused]] static const herr_t once = H5dont_atexit();
+}
 
 void ok(herr_t status, const char* what) {
   if (status < 0) fail(what);
@@ -271,7 +281,7 @@ class H5Output {
   // closed first (H5F_CLOSE_SEMI: H5Fclose fails otherwise, instead of leaving the file open
   // until the last object closes, after the rename), and none may have failed to close.
   void commit() {
-    if (t_failed_closes != closes_before_) fail("H5Dclose or H5Gclose");
+    if (t_failed_closes != closes_before_) fail("closing an object");
     ok(H5Fflush(file_, H5F_SCOPE_LOCAL), "H5Fflush");
     if (file_.close() < 0) fail("H5Fclose");
     const int fd = ::open(temp_.c_str(), O_RDONLY);
@@ -294,6 +304,7 @@ class H5Output {
   std::uint64_t closes_before_ = t_failed_closes;
 
   Handle create() {
+    no_exit_cleanup();  // before the first call that starts the library
     Handle fapl = property_list(H5P_FILE_ACCESS), fcpl = property_list(H5P_FILE_CREATE);
     ok(H5Pset_libver_bounds(fapl, H5F_LIBVER_EARLIEST, H5F_LIBVER_V18), "H5Pset_libver_bounds");
     ok(H5Pset_fclose_degree(fapl, H5F_CLOSE_SEMI), "H5Pset_fclose_degree");
@@ -485,7 +496,7 @@ void write_sonata(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   auto written = [&](const char* name, void (*write)(const RunResult&, const fs::path&)) {
     try {
       write(r, net);
-    } catch (const RunError& e) {
+    } catch (const Hdf5Error& e) {
       throw RunError(fmt::format("cannot write {}: {}", (net / name).string(), e.what()));
     }
   };

@@ -10,6 +10,20 @@
 
 namespace axg {
 
+// Incremental SHA-256 (OpenSSL EVP).
+class Sha256 {
+ public:
+  Sha256();
+  ~Sha256();
+  Sha256(const Sha256&) = delete;
+  Sha256& operator=(const Sha256&) = delete;
+  void update(std::string_view bytes);
+  std::string hex();  // of everything updated so far; call once
+
+ private:
+  void* ctx_;  // EVP_MD_CTX
+};
+
 // A buffered file that becomes visible under its name only on commit(). A file of more than
 // kDirectBlock bytes is written in whole blocks of that size with direct I/O (O_DIRECT,
 // where the file system takes it): from the buffer to the disk, with no copy into the page
@@ -54,7 +68,7 @@ class AtomicFile {
   bool committed_ = false;
   bool wrote_direct_ = false;
   Sync sync_;
-  void* digest_ = nullptr;  // EVP_MD_CTX, hashed as bytes are written
+  Sha256 digest_;           // of the bytes buffered so far
   std::string failed_;      // the first write's failure, thrown again by every later call
   // The block being filled and the one the writer has, each aligned to 4096 bytes, as
   // direct I/O needs; the writer exists once the file has outgrown one block.
@@ -72,20 +86,6 @@ void create_output_dir(const std::filesystem::path& dir);
 // Syncs the file system that holds dir (syncfs): the deferred AtomicFiles written there
 // are on disk when it returns. Throws RunError when it fails.
 void sync_filesystem(const std::filesystem::path& dir);
-
-// Incremental SHA-256 (OpenSSL EVP).
-class Sha256 {
- public:
-  Sha256();
-  ~Sha256();
-  Sha256(const Sha256&) = delete;
-  Sha256& operator=(const Sha256&) = delete;
-  void update(std::string_view bytes);
-  std::string hex();  // of everything updated so far; call once
-
- private:
-  void* ctx_;  // EVP_MD_CTX
-};
 
 // Hex SHA-256 of a file's bytes (OpenSSL EVP).
 std::string sha256_file(const std::filesystem::path& path);

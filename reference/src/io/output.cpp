@@ -53,10 +53,11 @@ void write_all(int fd, const char* data, std::size_t n, const fs::path& name) {
   }
 }
 
-// fsync of a directory: its entries (a rename into it) on disk.
-void sync_directory(const fs::path& dir) {
+// sync(fd) on a descriptor of the directory: fsync (its entries, a rename into it) or
+// syncfs (its whole file system). RunError naming the directory when it fails.
+void sync_on_directory(const fs::path& dir, int (*sync)(int)) {
   const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  const bool ok = fd >= 0 && ::fsync(fd) == 0;
+  const bool ok = fd >= 0 && sync(fd) == 0;
   const int err = errno;
   if (fd >= 0) ::close(fd);
   if (!ok) throw RunError(fmt::format("cannot sync {}: {}", dir.string(), std::strerror(err)));
@@ -161,27 +162,16 @@ class AtomicFile::BlockWriter {
   std::thread thread_;  // last: started once the rest is constructed
 };
 
-// The digest first: a constructor that throws runs no destructor, so nothing may be open
-// or on the disk yet when the last thing that can fail, the open, fails.
+// The open last: a constructor that throws runs no destructor of its own (the members'
+// run), so nothing may be open or on the disk before it.
 AtomicFile::AtomicFile(const fs::path& dir, const std::string& name, Sync sync)
     : final_(dir / name), temp_(dir / fmt::format(".{}.tmp-{}", name, ::getpid())), sync_(sync) {
-  auto* ctx = EVP_MD_CTX_new();
-  if (!ctx || EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) != 1) {
-    EVP_MD_CTX_free(ctx);
-    throw RunError("SHA-256 unavailable");
-  }
   fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd_ < 0) {
-    const int err = errno;
-    EVP_MD_CTX_free(ctx);
-    throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(err)));
-  }
-  digest_ = ctx;
+  if (fd_ < 0) throw RunError(fmt::format("cannot create {}: {}", temp_.string(), std::strerror(errno)));
 }
 
 AtomicFile::~AtomicFile() {
   blocks_.reset();  // the block in flight is written first
-  EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(digest_));
   if (fd_ >= 0) ::close(fd_);
   if (!committed_) {
     std::error_code ec;
@@ -243,7 +233,7 @@ void AtomicFile::write(std::string_view text) {
       }
       const std::size_t n = std::min(text.size(), capacity_ - size_);
       std::memcpy(buffer_.get() + size_, text.data(), n);
-      EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(digest_), text.data(), n);
+      digest_.update(text.substr(0, n));
       size_ += n;
       text.remove_prefix(n);
     }
@@ -285,11 +275,8 @@ std::string AtomicFile::commit() {
   // kFile: the rename itself on disk too (the directory's entry), so that a file that
   // commit() returned for (a manifest, a checkpoint) is found under its name after a power
   // loss. kDeferred files are covered by sync_filesystem, which syncs the directories too.
-  if (sync_ == Sync::kFile) sync_directory(final_.parent_path());
-  unsigned char md[EVP_MAX_MD_SIZE];
-  unsigned int len = 0;
-  EVP_DigestFinal_ex(static_cast<EVP_MD_CTX*>(digest_), md, &len);
-  return to_hex(md, len);
+  if (sync_ == Sync::kFile) sync_on_directory(final_.parent_path(), ::fsync);
+  return digest_.hex();
 }
 
 void create_output_dir(const fs::path& dir) {
@@ -298,17 +285,13 @@ void create_output_dir(const fs::path& dir) {
   if (ec) throw RunError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
 }
 
-void sync_filesystem(const fs::path& dir) {
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  const bool ok = fd >= 0 && ::syncfs(fd) == 0;
-  const int err = errno;
-  if (fd >= 0) ::close(fd);
-  if (!ok) throw RunError(fmt::format("cannot sync {}: {}", dir.string(), std::strerror(err)));
-}
+void sync_filesystem(const fs::path& dir) { sync_on_directory(dir, ::syncfs); }
 
 Sha256::Sha256() : ctx_(EVP_MD_CTX_new()) {
-  if (!ctx_ || EVP_DigestInit_ex(static_cast<EVP_MD_CTX*>(ctx_), EVP_sha256(), nullptr) != 1)
+  if (!ctx_ || EVP_DigestInit_ex(static_cast<EVP_MD_CTX*>(ctx_), EVP_sha256(), nullptr) != 1) {
+    EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(ctx_));  // no destructor after a throw
     throw RunError("SHA-256 unavailable");
+  }
 }
 
 Sha256::~Sha256() { EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(ctx_)); }

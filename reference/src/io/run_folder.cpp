@@ -267,6 +267,17 @@ void remove_stale_temporaries(const fs::path& dir) {
   }
 }
 
+namespace {
+
+// Whether `name` is a run output of the subfolder that `pattern` ("vtk/*.vtp") names.
+bool in_pattern(const std::string& pattern, const std::string& name) {
+  for (const Subfolder& s : kSubfolders)
+    if (s.pattern && pattern == s.pattern) return name.rfind(std::string(s.name) + "/", 0) == 0 && is_run_output(name);
+  return false;
+}
+
+}  // namespace
+
 FolderClaim claim_run_folder(const fs::path& dir, bool force) {
   std::error_code ec;
   std::vector<std::string> outputs;
@@ -310,8 +321,8 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
       for (const auto& name : m[key])
         if (name.is_string()) listed.insert(name.get<std::string>());
   auto listed_by_pattern = [&](const std::string& name) {
-    for (const Subfolder& s : kSubfolders)
-      if (s.pattern && listed.count(s.pattern) != 0 && name.rfind(std::string(s.name) + "/", 0) == 0) return true;
+    for (const std::string& pattern : listed)
+      if (in_pattern(pattern, name)) return true;
     return false;
   };
   for (const std::string& name : outputs) {
@@ -327,12 +338,8 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
 void refuse_foreign_in_the_way(const fs::path& dir, const FolderClaim& claim, const Scene& scene) {
   const std::vector<std::string> planned = planned_outputs(scene);
   auto in_the_way = [&](const std::string& name) {
-    for (const std::string& p : planned) {
-      if (p == name) return true;
-      for (const Subfolder& s : kSubfolders)
-        if (s.pattern && p == s.pattern && is_run_output(name) && name.rfind(std::string(s.name) + "/", 0) == 0)
-          return true;
-    }
+    for (const std::string& p : planned)
+      if (p == name || in_pattern(p, name)) return true;
     return false;
   };
   std::vector<std::string> hit;

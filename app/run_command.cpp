@@ -243,17 +243,37 @@ Job resume_job(const RunArgs& args, const fs::path& dir) {
   if (status == "complete") return job;  // the caller verifies and reports it
   if (status != "running" && status != "interrupted")
     throw InputError(fmt::format("--resume {}: manifest status \"{}\" is not a run's", dir.string(), printable(status)));
+  // An interrupted run's manifest records the checkpoint it stopped with: that file, and
+  // no other (a killed run's manifest records none; it resumes from what it finds).
+  std::string recorded;
+  if (status == "interrupted" && m.contains("checkpoint") && m["checkpoint"].is_object() &&
+      m["checkpoint"].contains("sha256") && m["checkpoint"]["sha256"].is_string())
+    recorded = m["checkpoint"]["sha256"].get<std::string>();
+  const fs::path path = dir / kCheckpointName;
   std::error_code ec;
-  if (fs::exists(dir / kCheckpointName, ec)) {
-    RunCheckpoint c = read_checkpoint(dir / kCheckpointName);
-    if (c.version != kVersion || c.commit != kCommit)
-      throw InputError(fmt::format("--resume {}: the checkpoint was written by axonguide {} ({}); this is {} ({})",
-                                   dir.string(), c.version, c.commit, kVersion, kCommit));
-    if (c.scene_hash != scene_hash(job.scene))
-      throw InputError(fmt::format("--resume {}: the checkpoint was written for another scene than the manifest's",
+  if (!fs::exists(path, ec)) {
+    if (!recorded.empty())
+      throw InputError(fmt::format("--resume {}: the run stopped with a checkpoint (after step {}), but {} is missing; "
+                                   "put it back, or start over with `axonguide run SCENE --out {} --force`",
+                                   dir.string(), m["checkpoint"].value("step", json(0)).dump(), path.string(),
                                    dir.string()));
-    job.checkpoint = std::move(c);
+    return job;
   }
+  RunCheckpoint c = read_checkpoint(path);  // damaged: exit 3
+  if (c.version != kVersion || c.commit != kCommit)
+    throw InputError(fmt::format("--resume {}: the checkpoint was written by axonguide {} ({}); this is {} ({})",
+                                 dir.string(), c.version, c.commit, kVersion, kCommit));
+  if (c.scene_hash != scene_hash(job.scene))
+    throw InputError(fmt::format("--resume {}: the checkpoint was written for another scene than the manifest's",
+                                 dir.string()));
+  if (!recorded.empty()) {
+    const std::string got = sha256_file(path);
+    if (got != recorded)
+      throw InputError(fmt::format("--resume {}: {} is whole, but not the checkpoint this run stopped with (its SHA-256 "
+                                   "is {}…, the manifest records {}…); put that one back, or start over with --force",
+                                   dir.string(), path.string(), got.substr(0, 16), recorded.substr(0, 16)));
+  }
+  job.checkpoint = std::move(c);
   return job;
 }
 
@@ -414,6 +434,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
           throw InputError(fmt::format("--resume {}: holds a complete run that does not verify (see `axonguide "
                                        "verify {}`); give --force to replace it",
                                        dir.string(), dir.string()));
+        discard_replaced_run(dir);  // left by a run killed once it was whole
         already_complete = true;
         return;
       }
@@ -431,13 +452,21 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
                      dir.c_str(), name.c_str());
     for (const auto& w : job.warnings) std::fprintf(stderr, "axonguide: warning: %s\n", w.c_str());
     if (resuming) {
-      // What the killed run was replacing, if it was killed before it had removed it all.
+      // What the killed run was replacing, if it was killed before it had moved or removed
+      // it all: into .replaced/ when it keeps the complete run it replaces.
       running = job.manifest;
       std::vector<std::string> left;
       if (running.contains("replacing") && running["replacing"].is_array())
         for (const auto& name : running["replacing"])
           if (name.is_string() && name.get<std::string>() != kCheckpointName) left.push_back(name.get<std::string>());
-      remove_run_files(dir, left);
+      if (!left.empty()) {
+        if (keeps_replaced_run(running)) keep_replaced_files(dir, left);
+        else remove_run_files(dir, left);
+        sync_filesystem(dir);  // the moves, before the manifest stops naming the files
+        running["replacing"] = json::array();
+        write_manifest(dir, running);
+      }
+      remove_stale_temporaries(dir);  // a killed writer's
       // Running again, once the first step after the checkpoint is done (so that a resume
       // refused on the way, a checkpoint that does not fit say, leaves the folder as it
       // was): an interrupted run's manifest would go on naming a checkpoint that the next
@@ -544,9 +573,14 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
     }
     if (root) {
       std::error_code ec;
-      if (!resuming && !fs::exists(dir / kCheckpointName, ec)) {
+      // A run with nothing to resume is taken back, and the run it replaced put back: a
+      // fresh one, or a resumed replacement that had not reached its first checkpoint.
+      if (!fs::exists(dir / kCheckpointName, ec) && (!resuming || keeps_replaced_run(running))) {
         abandon_fresh_run(dir, scene);
         cleanup.armed = made_dir;
+      } else if (fs::exists(dir / kReplacedName / kManifestName, ec)) {
+        std::fprintf(stderr, "axonguide: note: the run this one replaces is kept in %s/%s until this one completes\n",
+                     dir.c_str(), kReplacedName);
       }
       if (!ranks) std::rethrow_exception(error);
       code = report_error(error);
@@ -558,6 +592,7 @@ int run_job(const RunArgs& args, Ranks* ranks, int threads) {
   if (ranks) ranks->most(static_cast<std::uint64_t>(code));     // the other ranks end with this code
   std::error_code ec;
   fs::remove(dir / kCheckpointName, ec);  // the run is whole: the checkpoint is not needed
+  discard_replaced_run(dir);              // and the run it replaced is given up
   for (const ParticleFrame& fr : result.frames)
     if (fr.stride > 1)
       std::fprintf(stderr,

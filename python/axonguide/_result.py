@@ -185,7 +185,8 @@ class Result:
         """Writes the run folder `axonguide run --out DIR` writes, with the same bytes in every
         file but timings.csv and the manifest's run facts (threads, backend, times, peak memory,
         creation time). A folder holding a run is refused (InputError) unless force, which
-        replaces exactly the files its manifest lists. Returns the folder as a pathlib.Path."""
+        replaces exactly the files its manifest lists; a complete run replaced is put back if
+        the write fails. Returns the folder as a pathlib.Path."""
         path = pathlib.Path(os.fspath(dir))
         out = self._h.write(str(path), bool(force))
         for name in out["foreign"]:

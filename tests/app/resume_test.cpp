@@ -283,6 +283,38 @@ TEST(resume, AResumedRunIsRunningAgain) {
   EXPECT_EQ(outputs(out), t.expected("reference"));
 }
 
+// An interrupted run's manifest records the checkpoint it stopped with (its SHA-256). A
+// resume refuses, with exit 2 and the folder unchanged, when that file is missing (it does
+// not start again from step 0) or when another whole checkpoint of the same scene stands in
+// its place; with the file put back it finishes with the same bytes.
+TEST(resume, AnInterruptedRunResumesOnlyFromTheCheckpointItStoppedWith) {
+  Trial t("own-checkpoint", field_scenes()[1].second);
+  const fs::path out = t.dir() / "o", earlier = t.dir() / "earlier";
+  for (const auto& [dir, step] : {std::pair{out, 10}, std::pair{earlier, 6}})
+    ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", t.scene().string(), dir.string()), t.dir(),
+                        fmt::format("AXG_FAULT_KILL_AT='step {}' AXG_FAULT_SIGNAL=INT", step))
+                  .code,
+              130);
+  const std::string manifest = test::read_file(out / "manifest.json");
+  const fs::path own = t.dir() / "own.bin";
+  fs::rename(out / kCheckpointName, own);
+  Result r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("the run stopped with a checkpoint (after step 10), but"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("is missing"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_file(out / "manifest.json"), manifest);
+  EXPECT_FALSE(fs::exists(out / kCheckpointName));
+  fs::copy_file(earlier / kCheckpointName, out / kCheckpointName);  // whole, the same scene, step 6
+  r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("is whole, but not the checkpoint this run stopped with"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_file(out / "manifest.json"), manifest);
+  fs::rename(own, out / kCheckpointName);
+  r = axonguide(fmt::format("run --resume {} -q", out.string()), t.dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(outputs(out), t.expected("reference"));
+}
+
 TEST(resume, RefusesAnotherSceneAnotherBuildAndADamagedCheckpoint) {
   Trial t("refusals", field_scenes()[0].second);
   const fs::path out = t.dir() / "k";
@@ -564,6 +596,120 @@ TEST(run_folder, AKilledReplacementIsStillOneRun) {
     ASSERT_EQ(axonguide(fmt::format("run --resume {} -q", out.string()), tmp.path()).code, 0) << point;
     EXPECT_EQ(outputs(out), outputs(want)) << point;
   }
+}
+
+// Every file of a folder, hidden ones included, with its bytes' hash: the manifest too.
+std::map<std::string, std::string> every_file(const fs::path& dir) {
+  std::map<std::string, std::string> h;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) h[fs::relative(e.path(), dir).generic_string()] = sha256_file(e.path());
+  return h;
+}
+
+// A --force run that fails where only the run can find it (a placement that jams below the
+// packing bound; a file-size limit, as a full disk, while it writes) puts the complete run
+// it replaced back: every file, the manifest included, byte for byte, and .replaced/ is
+// gone. The same --force that succeeds leaves no .replaced/ either.
+TEST(run_folder, AForceRunThatFailsPutsThePreviousRunBack) {
+  test::TempDir tmp;
+  json cue = base_scene();
+  cue["output"]["vtk"] = true;
+  cue["output"]["checkpoint_every"] = 0;  // no checkpoint: a failure leaves nothing to resume
+  json jam = base_scene();
+  jam["neurons"] = {{"count", 400}, {"soma_radius", 0.5}, {"region", {{"radius", 5}}}};  // fraction 0.4
+  jam["output"]["checkpoint_every"] = 0;
+  json big = base_scene();
+  big["neurons"]["count"] = 3000;
+  big["guidance"]["model"] = "direct";
+  big["output"]["checkpoint_every"] = 0;
+  const fs::path cue_path = tmp.path() / "cue.json", jam_path = tmp.path() / "jam.json",
+                 big_path = tmp.path() / "big.json", out = tmp.path() / "o";
+  std::ofstream(cue_path) << cue.dump();
+  std::ofstream(jam_path) << jam.dump();
+  std::ofstream(big_path) << big.dump();
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", cue_path.string(), out.string()), tmp.path()).code, 0);
+  std::ofstream(out / "notes.txt") << "mine";
+  const std::map<std::string, std::string> before = every_file(out);
+  ASSERT_EQ(before.count("vtk/axons_000010.vtp"), 1u) << "the run has VTK frames, in a subfolder";
+  for (const auto& [name, path, env, message] :
+       {std::tuple{"jam", jam_path, std::string(), std::string("placement failed")},
+        std::tuple{"full", big_path, std::string("ulimit -f 64;"), std::string("File too large")}}) {
+    const Result r = axonguide(fmt::format("run {} --out {} -q --force", path.string(), out.string()), tmp.path(), env);
+    EXPECT_EQ(r.code, 3) << name << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << name << ": " << r.err;
+    EXPECT_EQ(every_file(out), before) << name << ": " << r.err;
+    EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0) << name;
+  }
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q --force", big_path.string(), out.string()), tmp.path()).code, 0);
+  EXPECT_FALSE(fs::exists(out / kReplacedName));
+  EXPECT_TRUE(fs::exists(out / "notes.txt"));
+  EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0);
+}
+
+// A --force run killed while it moves the complete run it replaces into .replaced/, later
+// while it runs, or while a failure moves that run back, leaves a folder that ends as one
+// run either way: --resume finishes the new run and removes .replaced/ (or, when the new run
+// fails before its first checkpoint, puts the first run back), and another --force that
+// fails puts the first run back whole. A .replaced/ left beside a complete run is removed by
+// the --resume that finds nothing to do.
+TEST(run_folder, AKilledReplacementKeepsThePreviousRunUntilItIsWhole) {
+  test::TempDir tmp;
+  json cue = base_scene();
+  cue["output"]["vtk"] = true;
+  json direct = base_scene();
+  direct["guidance"]["model"] = "direct";
+  direct["output"]["paths"] = false;
+  json jam = base_scene();
+  jam["neurons"] = {{"count", 400}, {"soma_radius", 0.5}, {"region", {{"radius", 5}}}};
+  jam["output"]["checkpoint_every"] = 0;
+  const fs::path cue_path = tmp.path() / "cue.json", direct_path = tmp.path() / "direct.json",
+                 jam_path = tmp.path() / "jam.json";
+  std::ofstream(cue_path) << cue.dump();
+  std::ofstream(direct_path) << direct.dump();
+  std::ofstream(jam_path) << jam.dump();
+  const fs::path want = tmp.path() / "want";
+  ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", direct_path.string(), want.string()), tmp.path()).code, 0);
+  const std::string jam_force = fmt::format("run {} --out {{}} -q --force", jam_path.string());
+  struct Case {
+    std::string point;    // where the --force run is killed
+    fs::path scene;       // the scene of that run
+    std::string then;     // "resume", or "jam": another --force, which fails
+  };
+  const std::vector<Case> cases{
+      {"keep connections.csv", direct_path, "resume"}, {"keep vtk/axons_000010.vtp", direct_path, "resume"},
+      {"step 5", direct_path, "resume"},               {"keep connections.csv", direct_path, "jam"},
+      {"keep vtk/axons_000010.vtp", direct_path, "jam"}, {"step 5", direct_path, "jam"},
+      {"keep connections.csv", jam_path, "resume"},    {"restore connections.csv", jam_path, "resume"},
+      {"restore vtk/axons_000010.vtp", jam_path, "jam"}};
+  for (const Case& c : cases) {
+    const std::string what = c.point + ", " + c.scene.filename().string() + ", then " + c.then;
+    const fs::path out = tmp.path() / "o";
+    fs::remove_all(out);
+    ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", cue_path.string(), out.string()), tmp.path()).code, 0);
+    const std::map<std::string, std::string> first = every_file(out);
+    const Result k = axonguide(fmt::format("run {} --out {} -q --force", c.scene.string(), out.string()), tmp.path(),
+                               fmt::format("AXG_FAULT_KILL_AT='{}'", c.point));
+    ASSERT_EQ(k.code, 128 + SIGKILL) << what << ": " << k.err;
+    EXPECT_EQ(sha256_file(out / kReplacedName / "manifest.json"), first.at("manifest.json")) << what;
+    EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 1) << what;
+    const bool finishes = c.then == "resume" && c.scene == direct_path;
+    const Result r = axonguide(c.then == "resume" ? fmt::format("run --resume {} -q", out.string())
+                                                  : fmt::format(fmt::runtime(jam_force), out.string()),
+                               tmp.path());
+    EXPECT_EQ(r.code, finishes ? 0 : 3) << what << ": " << r.err;
+    if (finishes) {
+      EXPECT_EQ(outputs(out), outputs(want)) << what;
+      EXPECT_FALSE(fs::exists(out / kReplacedName)) << what;
+    } else {
+      EXPECT_EQ(every_file(out), first) << what << ": " << r.err;
+    }
+    EXPECT_EQ(axonguide("verify " + out.string(), tmp.path()).code, 0) << what;
+  }
+  const fs::path out = tmp.path() / "o";
+  fs::create_directories(out / kReplacedName);
+  std::ofstream(out / kReplacedName / "neurons.csv") << "left by a run killed once it was whole\n";
+  EXPECT_EQ(axonguide(fmt::format("run --resume {} -q", out.string()), tmp.path()).code, 0);
+  EXPECT_FALSE(fs::exists(out / kReplacedName));
 }
 
 // A second run into a folder that a run holds is refused (the lock), and the first one

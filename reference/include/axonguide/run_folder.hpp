@@ -19,6 +19,10 @@ namespace axg {
 
 inline constexpr const char* kManifestName = "manifest.json";
 inline constexpr const char* kLockName = ".axonguide.lock";
+// Where `--force` keeps the complete run it replaces until the new run is whole (then it is
+// removed), or fails before it has a checkpoint (then it is put back): DIR/.replaced/, the
+// old run's files under their own names and its manifest.
+inline constexpr const char* kReplacedName = ".replaced";
 
 // True for the names a run writes (relative to its folder): its CSV, GraphML and VTK
 // files, the manifest and the checkpoint.
@@ -58,12 +62,18 @@ class FolderLock {
 // does not write, is taken as it is. A folder holding a run (any status) is refused
 // unless `force`; with force, `replacing` is exactly the files its manifest lists (with
 // the manifest and the checkpoint). Run outputs without a manifest are refused even with
-// force: nothing says whose they are. Nothing is removed here: the new run first writes
-// its running manifest, which lists `replacing`, and then removes them
-// (remove_run_files), so that a kill at any point leaves a manifest naming every file.
+// force: nothing says whose they are. Nothing is moved or removed here: the new run first
+// writes its running manifest, which lists `replacing`, and then moves them into
+// DIR/.replaced/ (a complete run's) or removes them (an unfinished run's), so that a kill at
+// any point leaves a manifest naming every file.
 struct FolderClaim {
   std::vector<std::string> replacing;
   std::vector<std::string> foreign;  // files left that no run wrote (notes, view.html, plots)
+  // The complete run kept in DIR/.replaced/ while the new one runs: kMake, the old run is
+  // complete and goes there; kKeep, the old run is an unfinished replacement of a complete
+  // run that is there already (its files named in `keeping` were not yet moved); kNone.
+  enum class Replaced { kNone, kMake, kKeep } replaced = Replaced::kNone;
+  std::vector<std::string> keeping;
 };
 FolderClaim claim_run_folder(const std::filesystem::path& dir, bool force);
 
@@ -79,16 +89,41 @@ void remove_run_files(const std::filesystem::path& dir, const std::vector<std::s
 // Removes the temporary files (".NAME.tmp-PID") of runs that were killed in DIR.
 void remove_stale_temporaries(const std::filesystem::path& dir);
 
+// Whether an unfinished run's manifest says that DIR/.replaced/ keeps the run it replaces.
+bool keeps_replaced_run(const nlohmann::json& manifest);
+
+// Makes DIR/.replaced/ (removing one a killed run left) and copies DIR's manifest into it,
+// byte for byte and synced: the first step of keeping a complete run that --force replaces.
+void make_replaced_run(const std::filesystem::path& dir);
+
+// Moves these files of DIR (names as for remove_run_files) into DIR/.replaced/ under the
+// same names. A name that .replaced/ holds already was moved before a kill, and the file in
+// DIR is the new run's: it is removed, never moved over the kept one.
+void keep_replaced_files(const std::filesystem::path& dir, const std::vector<std::string>& names);
+
+// Puts the run kept in DIR/.replaced/ back: the files its manifest lists, then its manifest
+// over the running one. False when .replaced/ holds no manifest (nothing to put back).
+bool restore_replaced_run(const std::filesystem::path& dir);
+
+// Removes DIR/.replaced/, once the run that replaced it is whole (a failure is a warning:
+// the new run is whole all the same; a --resume or --force into DIR removes it).
+void discard_replaced_run(const std::filesystem::path& dir);
+
 // A fresh run's start, after claim_run_folder, by the holder of DIR's lock: an old
-// checkpoint is removed first (it must never be taken for this run's), then the running
-// manifest (status "running", "planned": planned_outputs, "replacing": the claim's files)
-// is written, then the files it replaces are removed. Returns that manifest.
+// checkpoint is removed first (it must never be taken for this run's); a complete run's
+// manifest is copied into DIR/.replaced/; then the running manifest (status "running",
+// "planned": planned_outputs, "replacing": the claim's files, "replaced_run": ".replaced"
+// when one is kept) is written; then the files it replaces are moved into .replaced/ (or
+// removed, an unfinished run's), and the manifest is written again with "replacing" empty.
+// Returns that manifest.
 nlohmann::json start_fresh_run(const std::filesystem::path& dir, const FolderClaim& claim, const Scene& scene,
                                const std::string& backend, int threads, const std::vector<std::string>& warnings);
 
 // Takes back a fresh run that failed before its first checkpoint: its partial outputs and
-// its running manifest (the caller removes DIR when it made it and it is left empty).
-void abandon_fresh_run(const std::filesystem::path& dir, const Scene& scene);
+// its running manifest, and puts back the run it replaced (restore_replaced_run). The
+// caller removes DIR when it made it and it is left empty.
+// Never throws: a failure here is a warning beside the failure being reported.
+void abandon_fresh_run(const std::filesystem::path& dir, const Scene& scene) noexcept;
 
 struct RunResult;
 struct OutputInfo;

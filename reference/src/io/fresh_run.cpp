@@ -1,8 +1,10 @@
 // A fresh run's folder: the steps `axonguide run` takes before and after the run itself,
 // shared with the Python module's Result.write (docs/methods.md §7.1).
+#include <cstdio>
 #include <exception>
 
 #include "axonguide/checkpoint.hpp"
+#include "axonguide/error.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run.hpp"
 #include "axonguide/run_folder.hpp"
@@ -21,19 +23,45 @@ json start_fresh_run(const fs::path& dir, const FolderClaim& claim, const Scene&
   for (const auto& name : claim.replacing)
     if (name == kCheckpointName) fs::remove(dir / name);
     else replacing.push_back(name);
-  running["replacing"] = replacing;
+  using Replaced = FolderClaim::Replaced;
+  if (claim.replaced == Replaced::kMake)
+    make_replaced_run(dir);  // the complete run's manifest, before the running one replaces it
+  else if (claim.replaced == Replaced::kNone)
+    discard_replaced_run(dir);  // one left by a run killed after it was whole
+  if (claim.replaced != Replaced::kNone) running["replaced_run"] = kReplacedName;
+  std::vector<std::string> listed = replacing;
+  listed.insert(listed.end(), claim.keeping.begin(), claim.keeping.end());
+  running["replacing"] = listed;
   running["files"] = json::object();
   // The running manifest first: from here on a kill leaves a folder whose manifest names
   // every file in it.
   write_manifest(dir, running);
-  remove_run_files(dir, replacing);
+  if (claim.replaced == Replaced::kMake) {
+    keep_replaced_files(dir, replacing);
+  } else {
+    keep_replaced_files(dir, claim.keeping);  // those an unfinished replacement had not yet moved
+    remove_run_files(dir, replacing);
+  }
+  if (!listed.empty()) {
+    sync_filesystem(dir);  // the moves, before the manifest stops naming the files
+    running["replacing"] = json::array();
+    write_manifest(dir, running);
+  }
   return running;
 }
 
-void abandon_fresh_run(const fs::path& dir, const Scene& scene) {
-  std::error_code ec;
-  remove_run_files(dir, planned_outputs(scene));
-  fs::remove(dir / kManifestName, ec);
+void abandon_fresh_run(const fs::path& dir, const Scene& scene) noexcept {
+  // Called while a failure is being reported: that failure is the one to report, and this
+  // one's is said beside it.
+  try {
+    remove_run_files(dir, planned_outputs(scene));
+    if (restore_replaced_run(dir)) return;
+    std::error_code ec;
+    fs::remove(dir / kManifestName, ec);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "axonguide: warning: %s could not be taken back%s: %s\n", dir.c_str(),
+                 fs::exists(dir / kReplacedName) ? " (the run it replaces is kept in .replaced/)" : "", e.what());
+  }
 }
 
 OutputInfo write_run_folder(const RunResult& result, const fs::path& dir, bool force, const std::string& backend,
@@ -54,6 +82,7 @@ OutputInfo write_run_folder(const RunResult& result, const fs::path& dir, bool f
       abandon_fresh_run(dir, result.scene);
       failure = std::current_exception();
     }
+    if (!failure) discard_replaced_run(dir);  // the new run is whole
   }
   if (failure) {
     // After the lock (its file) is gone, as `axonguide run` does.

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -19,6 +20,7 @@
 
 #include "axonguide/checkpoint.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/fault.hpp"
 #include "axonguide/json_input.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run.hpp"
@@ -62,6 +64,12 @@ std::vector<fs::path> run_dirs(const fs::path& dir) {
   std::vector<fs::path> dirs{dir};
   for (const Subfolder& s : kSubfolders) dirs.push_back(dir / s.name);
   return dirs;
+}
+
+void remove_empty_subfolders(const fs::path& dir) {
+  std::error_code ec;
+  for (const Subfolder& s : kSubfolders)
+    if (fs::is_directory(dir / s.name, ec) && fs::is_empty(dir / s.name, ec)) fs::remove(dir / s.name, ec);
 }
 
 bool is_subfolder(const std::string& name) {
@@ -201,6 +209,16 @@ FolderCheck verify_run_folder(const fs::path& dir) {
   }
   if (fs::exists(dir / kCheckpointName, ec) && c.status == "complete")
     c.notes.push_back(fmt::format("{} is left from before the outputs were complete (not needed)", kCheckpointName));
+  if (fs::exists(dir / kReplacedName, ec)) {
+    if (c.status != "complete" && keeps_replaced_run(m))
+      c.notes.push_back(fmt::format("{}/ keeps the complete run that this one replaces: it is put back if this run "
+                                    "fails before its first checkpoint, and removed when this run completes",
+                                    kReplacedName));
+    else
+      c.notes.push_back(fmt::format("{}/ is left from a run that --force replaced (not needed; `axonguide run "
+                                    "--resume` or a --force run into this folder removes it)",
+                                    kReplacedName));
+  }
   for (const auto& e : fs::directory_iterator(dir, ec))
     if (is_temporary(e.path().filename().string()))
       c.notes.push_back(fmt::format("{}: a temporary file of a killed run", e.path().filename().string()));
@@ -286,7 +304,8 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
     if (!fs::is_directory(d, ec)) continue;
     for (const auto& e : fs::directory_iterator(d, ec)) {
       const std::string name = fs::relative(e.path(), dir, ec).generic_string();
-      if (name == kLockName || is_subfolder(name) || is_temporary(e.path().filename().string())) continue;
+      if (name == kLockName || name == kReplacedName || is_subfolder(name) || is_temporary(e.path().filename().string()))
+        continue;
       (is_run_output(name) ? outputs : claim.foreign).push_back(name);
     }
   }
@@ -304,8 +323,9 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
   const std::string status = m.value("status", std::string("complete"));
   if (!force) {
     if (status == "complete")
-      throw InputError(fmt::format("--out {}: holds another run (created {}); give --force to replace it (it removes "
-                                   "exactly the files its manifest lists), or choose another folder",
+      throw InputError(fmt::format("--out {}: holds another run (created {}); give --force to replace it (it replaces "
+                                   "exactly the files its manifest lists, and puts them back if the new run fails "
+                                   "before its first checkpoint), or choose another folder",
                                    dir.string(), m.value("created", std::string("?"))));
     throw InputError(fmt::format("--out {}: holds an unfinished run (status \"{}\"); continue it with `axonguide run "
                                  "--resume {}`, or give --force to replace it",
@@ -325,9 +345,20 @@ FolderClaim claim_run_folder(const fs::path& dir, bool force) {
       if (in_pattern(pattern, name)) return true;
     return false;
   };
+  // A complete run is kept until the new one is whole; an unfinished one that was itself
+  // replacing a complete run keeps that one (and moves there what it had not yet moved).
+  std::set<std::string> keeping;
+  if (status == "complete") {
+    claim.replaced = FolderClaim::Replaced::kMake;
+  } else if (keeps_replaced_run(m) && fs::exists(dir / kReplacedName / kManifestName, ec)) {
+    claim.replaced = FolderClaim::Replaced::kKeep;
+    if (m.contains("replacing") && m["replacing"].is_array())
+      for (const auto& name : m["replacing"])
+        if (name.is_string()) keeping.insert(name.get<std::string>());
+  }
   for (const std::string& name : outputs) {
     if ((listed.count(name) != 0 || listed_by_pattern(name)) && safe_relative(name))
-      claim.replacing.push_back(name);
+      (keeping.count(name) != 0 ? claim.keeping : claim.replacing).push_back(name);
     else
       claim.foreign.push_back(name);
   }
@@ -354,24 +385,109 @@ void refuse_foreign_in_the_way(const fs::path& dir, const FolderClaim& claim, co
                                dir.string(), names, them, them));
 }
 
-void remove_run_files(const fs::path& dir, const std::vector<std::string>& names) {
+namespace {
+
+// The files of DIR that `names` stand for (a subfolder's pattern for all its run files),
+// each relative to DIR; the manifest is never one of them.
+std::vector<std::string> named_files(const fs::path& dir, const std::vector<std::string>& names) {
   std::error_code ec;
+  std::vector<std::string> files;
   for (const std::string& name : names) {
     const Subfolder* all = nullptr;
     for (const Subfolder& s : kSubfolders)
       if (s.pattern && name == s.pattern) all = &s;
     if (all) {
-      std::vector<fs::path> files;
-      for (const auto& e : fs::directory_iterator(dir / all->name, ec))
-        if (is_run_output(std::string(all->name) + "/" + e.path().filename().string())) files.push_back(e.path());
-      for (const auto& p : files) remove_file(p);
-    } else if (safe_relative(name) && is_run_output(name) && name != kManifestName) {
-      if (fs::exists(dir / name, ec)) remove_file(dir / name);
+      for (const auto& e : fs::directory_iterator(dir / all->name, ec)) {
+        const std::string file = std::string(all->name) + "/" + e.path().filename().string();
+        if (is_run_output(file)) files.push_back(file);
+      }
+    } else if (safe_relative(name) && is_run_output(name) && name != kManifestName && fs::exists(dir / name, ec)) {
+      files.push_back(name);
     }
   }
+  return files;
+}
+
+void move_file(const fs::path& from, const fs::path& to) {
+  std::error_code ec;
+  fs::create_directories(to.parent_path(), ec);
+  if (ec) throw RunError(fmt::format("cannot create {}: {}", to.parent_path().string(), ec.message()));
+  fs::rename(from, to, ec);
+  if (ec) throw RunError(fmt::format("cannot move {} to {}: {}", from.string(), to.string(), ec.message()));
+}
+
+}  // namespace
+
+void remove_run_files(const fs::path& dir, const std::vector<std::string>& names) {
+  for (const std::string& name : named_files(dir, names)) remove_file(dir / name);
   remove_stale_temporaries(dir);
-  for (const Subfolder& s : kSubfolders)
-    if (fs::is_directory(dir / s.name, ec) && fs::is_empty(dir / s.name, ec)) fs::remove(dir / s.name, ec);
+  remove_empty_subfolders(dir);
+}
+
+bool keeps_replaced_run(const json& manifest) {
+  return manifest.contains("replaced_run") && manifest["replaced_run"] == kReplacedName;
+}
+
+void make_replaced_run(const fs::path& dir) {
+  const fs::path kept = dir / kReplacedName;
+  std::error_code ec;
+  fs::remove_all(kept, ec);  // one left by a run killed after it was whole
+  if (!ec) fs::create_directory(kept, ec);
+  if (ec) throw RunError(fmt::format("cannot make {} afresh: {}", kept.string(), ec.message()));
+  std::ifstream in(dir / kManifestName, std::ios::binary);
+  if (!in) throw RunError(fmt::format("cannot read {}", (dir / kManifestName).string()));
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  AtomicFile copy(kept, kManifestName);  // its own bytes, synced before the running manifest replaces it
+  copy.write(bytes.str());
+  copy.commit();
+}
+
+void keep_replaced_files(const fs::path& dir, const std::vector<std::string>& names) {
+  const fs::path kept = dir / kReplacedName;
+  std::error_code ec;
+  for (const std::string& name : named_files(dir, names)) {
+    if (fs::exists(kept / name, ec))
+      remove_file(dir / name);
+    else
+      move_file(dir / name, kept / name);
+    fault_point("keep " + name);
+  }
+  remove_stale_temporaries(dir);
+  remove_empty_subfolders(dir);
+}
+
+bool restore_replaced_run(const fs::path& dir) {
+  const fs::path kept = dir / kReplacedName;
+  std::error_code ec;
+  if (!fs::is_regular_file(kept / kManifestName, ec)) return false;
+  const json old = read_manifest(kept);
+  std::vector<std::string> files;
+  if (old.contains("files") && old["files"].is_object())
+    for (auto it = old["files"].begin(); it != old["files"].end(); ++it)
+      if (safe_relative(it.key()) && is_run_output(it.key()) && it.key() != kManifestName) files.push_back(it.key());
+  // The running manifest names them first, as files it replaces: a kill from here on
+  // leaves a folder that the next run moves back into .replaced/ (FolderClaim::kKeep).
+  json running = read_manifest(dir);
+  running["replacing"] = files;
+  write_manifest(dir, running);
+  for (const std::string& name : files)
+    if (fs::exists(kept / name, ec)) {
+      move_file(kept / name, dir / name);
+      fault_point("restore " + name);
+    }
+  move_file(kept / kManifestName, dir / kManifestName);
+  sync_filesystem(dir);
+  discard_replaced_run(dir);
+  return true;
+}
+
+void discard_replaced_run(const fs::path& dir) {
+  std::error_code ec;
+  fs::remove_all(dir / kReplacedName, ec);
+  if (ec)  // the new run is whole all the same; the next --force or run removes it
+    std::fprintf(stderr, "axonguide: warning: cannot remove %s (the replaced run, no longer needed): %s\n",
+                 (dir / kReplacedName).c_str(), ec.message().c_str());
 }
 
 json manifest_header(const Scene& scene, const std::string& backend, int threads,

@@ -3,10 +3,12 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "axonguide/error.hpp"
 #include "axonguide/resources.hpp"
@@ -17,6 +19,19 @@ namespace {
 
 int dispatch(int argc, char** argv) {
   using namespace axg::app;
+  // CLI11's number checks compare, and every comparison with NaN is false: NaN would pass
+  // them all. A real-valued option is a finite number first.
+  const CLI::Validator finite(
+      [](std::string& text) {
+        try {
+          std::size_t used = 0;
+          const double v = std::stod(text, &used);
+          if (used == text.size() && std::isfinite(v)) return std::string();
+        } catch (const std::exception&) {
+        }
+        return std::string("must be a finite number");
+      },
+      "FINITE");
   CLI::App app{"axonguide: deterministic simulation of axon growth and guidance through diffusing cues"};
   app.require_subcommand(1);
   // The data folder is where the bundled scenes and golden networks are read from: the
@@ -34,7 +49,8 @@ int dispatch(int argc, char** argv) {
       ->check(CLI::IsMember({"reference", "cuda", "emulated"}))->capture_default_str();
   auto* run_seed = run_cmd->add_option("--seed", run.seed, "Override the scene's seed (unsigned 64-bit)");
   run_cmd->add_flag("--force", run.force,
-                    "Replace the run that --out holds (removes exactly the files its manifest lists)");
+                    "Replace the run that --out holds (exactly the files its manifest lists; a complete run is put back if "
+                    "the new one fails before its first checkpoint)");
   run_cmd->add_option("--resume", run.resume, "Continue the killed or interrupted run in this folder, from its checkpoint");
   run_cmd->add_flag("--quiet,-q", run.quiet, "No summary on stdout");
   run_cmd->add_flag("--vtk", run.vtk, "Also write ParaView files (vtk/*.vtp, growth.pvd); implies output.paths");
@@ -68,7 +84,7 @@ int dispatch(int argc, char** argv) {
   val_cmd->add_option("--threads", val.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   val_cmd->add_option("--points", val.points, "samplers: test this CSV point set (one point per row, d columns)");
   val_cmd->add_option("--radius", val.radius, "samplers --points: ball radius for points that are not unit vectors")
-      ->check(CLI::PositiveNumber);
+      ->check(finite)->check(CLI::PositiveNumber);
   val_cmd->add_flag("--allow-skip", val.allow_skip,
                     "Exit 0 when a check is skipped (it could not run here, e.g. gpu without a GPU); without it, 3");
 
@@ -113,7 +129,7 @@ int dispatch(int argc, char** argv) {
   fit_cmd->add_option("--scene", fit.scene_path, "Base scene: an explant in an imposed gradient")->required();
   fit_cmd->add_option("--out", fit.out_dir, "Output directory")->required();
   fit_cmd->add_option("--max-chi2", fit.max_chi2, "Exit 1 when chi2/dof is above this")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite)->check(CLI::PositiveNumber);
   fit_cmd->add_flag("--scale", fit.scale, "Also fit a scale on the nominal concentrations");
   fit_cmd->add_option("--seeds", fit.seeds, "Seeds per model point to start with (more are added for --target-se)")
       ->capture_default_str()->check(CLI::Range(1, 1000));
@@ -122,7 +138,7 @@ int dispatch(int argc, char** argv) {
   fit_cmd->add_option("--polish", fit.polish, "Gauss-Newton steps from the grid's best (0: none)")
       ->capture_default_str()->check(CLI::Range(0, 20));
   fit_cmd->add_option("--target-se", fit.target_se, "Model SE / data SE to reach at every point (0: off)")
-      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+      ->capture_default_str()->check(finite)->check(CLI::Range(0.0, 10.0));
   fit_cmd->add_flag("!--no-mirror", fit.mirror, "Do not also run every seed with the gradient mirrored");
   fit_cmd->add_option("--param", fit.params,
                       "NAME or NAME=LO:HI, repeatable: a parameter to fit (gain, kd, scale, or a signalling parameter) "
@@ -132,9 +148,9 @@ int dispatch(int argc, char** argv) {
   fit_cmd->add_option("--bias-metric", fit.bias_metric, "The assay metric a bias column is compared with")
       ->check(CLI::IsMember({"bias", "outgrowth_bias", "guidance_ratio"}));
   fit_cmd->add_option("--gain-min", fit.gain_lo, "Coarse grid: smallest gain")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite)->check(CLI::PositiveNumber);
   fit_cmd->add_option("--gain-max", fit.gain_hi, "Coarse grid: largest gain")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite)->check(CLI::PositiveNumber);
   fit_cmd->add_option("--grid", fit.coarse, "Coarse grid points per parameter")->capture_default_str()
       ->check(CLI::Range(2, 50));
   fit_cmd->add_option("--refine", fit.refine, "Refinement rounds (5 points per parameter each)")->capture_default_str()

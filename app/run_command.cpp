@@ -324,9 +324,16 @@ void together(Ranks* ranks, Fn&& fn) {
   const int code = static_cast<int>(ranks->most(error ? static_cast<std::uint64_t>(exit_code_of(error)) : 0));
   if (code == kExitOk) return;
   if (!ranks->root()) throw QuietExit{code};
-  if (error) std::rethrow_exception(error);
-  throw RunError(fmt::format("another rank could not start the run (exit {}); every rank must see the same files",
-                             code));
+  // Rank 0 says why (its own error, or that another rank had one), and every rank ends
+  // with the same code: the worst any rank met.
+  if (!error) {
+    const std::string what =
+        fmt::format("another rank could not start the run (exit {}); every rank must see the same files", code);
+    error = code == kExitBadInput ? std::make_exception_ptr(InputError(what)) : std::make_exception_ptr(RunError(what));
+  }
+  if (exit_code_of(error) == code) std::rethrow_exception(error);
+  report_error(error);
+  throw QuietExit{code};
 }
 
 // fn on rank 0 alone (the folder); the others wait for its outcome.

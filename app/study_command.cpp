@@ -14,6 +14,8 @@
 
 #include "axonguide/assay.hpp"
 #include "axonguide/csv.hpp"
+#include "axonguide/json_input.hpp"
+#include "axonguide/neurons_csv.hpp"
 #include "axonguide/distributed/launch.hpp"
 #include "axonguide/distributed/mpi_comm.hpp"
 #ifdef AXG_HAVE_MPI
@@ -45,25 +47,6 @@ std::string read_file(const fs::path& p, const char* what) {
   return ss.str();
 }
 
-// The whole of s as a number (std::stod's syntax), or nothing.
-std::optional<double> parse_number(const std::string& s) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  if (used != s.size() || s.empty()) return std::nullopt;
-  return v;
-}
-
-double number(const std::string& s, const std::string& where) {
-  const std::optional<double> v = parse_number(s);
-  if (!v) throw InputError(fmt::format("{}: \"{}\" is not a number", where, s));
-  return *v;
-}
-
 }  // namespace
 
 int cmd_assay(const std::string& dir_name) {
@@ -73,32 +56,20 @@ int cmd_assay(const std::string& dir_name) {
   if (!manifest["files"].contains("neurons.csv"))
     throw InputError(fmt::format("assay: {}/manifest.json does not list neurons.csv", dir_name));
   const std::string neurons_text = read_file(dir / "neurons.csv", "assay");
-  const Scene scene = parse_scene(manifest.at("scene").dump(), dir_name + "/manifest.json scene").scene;
-
-  std::vector<core::Vec3> soma(scene.neurons.count);
+  if (!manifest.contains("scene"))
+    throw InputError(fmt::format("assay: {}/manifest.json holds no scene: not a run's manifest", dir_name));
+  const Scene scene = parse_scene(manifest["scene"].dump(), dir_name + "/manifest.json scene").scene;
+  const NeuronRows rows =
+      read_neurons_csv(neurons_text, fmt::format("assay: {}", (dir / "neurons.csv").string()), scene.neurons.count);
+  const std::vector<core::Vec3>& soma = rows.soma;
   NeuronState n;
   n.resize(scene.neurons.count);
-  std::istringstream lines(neurons_text);
-  std::string line;
-  std::getline(lines, line);
-  std::size_t row = 1;
-  while (std::getline(lines, line)) {
-    ++row;
-    const auto f = split_csv_line(line);
-    const std::string where = fmt::format("assay: neurons.csv line {}", row);
-    if (f.size() != 12) throw InputError(fmt::format("{}: {} fields, expected 12", where, f.size()));
-    const auto id = static_cast<std::size_t>(number(f[0], where));
-    if (id >= soma.size()) throw InputError(fmt::format("{}: id {} is not below the scene's count", where, id));
-    soma[id] = {number(f[1], where), number(f[2], where), number(f[3], where)};
-    n.status[id] = f[5] == "connected" ? core::AxonStatus::kConnected
-                   : f[5] == "exited"  ? core::AxonStatus::kExited
-                   : f[5] == "growing" ? core::AxonStatus::kGrowing
-                                       : core::AxonStatus::kMaxSteps;
-    n.tip[id] = {number(f[6], where), number(f[7], where), number(f[8], where)};
-    n.length[id] = number(f[9], where);
-    n.steps[id] = static_cast<std::uint32_t>(number(f[10], where));
-    const double t = number(f[11], where);
-    n.target[id] = t < 0 ? core::kNoNeuron : static_cast<std::uint32_t>(t);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    n.status[i] = rows.status[i];
+    n.tip[i] = rows.tip[i];
+    n.length[i] = rows.length[i];
+    n.steps[i] = rows.steps[i];
+    n.target[i] = rows.target[i];
   }
   const auto cues = assay::reference_cues(scene);
   const assay::Metrics m = assay::measure(scene, soma, n, cues);
@@ -144,12 +115,16 @@ int cmd_assay(const std::string& dir_name) {
   if (std::isfinite(m.near_attractant_fraction) || std::isfinite(m.near_repellent_fraction))
     fmt::print("          tips within 3 sensing radii of an attractant {:.4f}, of a repellent {:.4f} (all neurons)\n",
                m.near_attractant_fraction, m.near_repellent_fraction);
+  {
+    std::error_code ec;
+    fs::remove(dir / "assay.png", ec);  // a plot not drawn leaves no older picture beside these numbers
+  }
   const std::string& python = validate::plotting_python();
   if (python.empty()) {
     std::fprintf(stderr, "axonguide: assay: no python3 with matplotlib; assay.png not drawn\n");
   } else {
     const fs::path script = validate::plots_dir() / "assay_run.py";
-    const int rc = std::system(fmt::format("'{}' '{}' '{}' >/dev/null 2>&1", python, script.string(), dir.string()).c_str());
+    const int rc = validate::run_program({python, script.string(), dir.string()}, "/dev/null");
     if (rc != 0) std::fprintf(stderr, "axonguide: assay: %s failed; assay.png not drawn\n", script.string().c_str());
   }
   fmt::print("outputs   {}/assay.csv, assay_profile.csv, assay_turning.csv{}\n", dir_name,
@@ -276,12 +251,14 @@ std::pair<double, double> parse_correction(const std::string& text) {
 }  // namespace
 
 int cmd_fit(const FitArgs& args) {
+  {
+    std::error_code ec;  // before the fit's runs, not after them
+    if (fs::exists(args.out_dir, ec) && !fs::is_directory(args.out_dir, ec))
+      throw InputError(fmt::format("--out {}: exists and is not a directory", args.out_dir));
+  }
   const fit::Data data = fit::load_data(args.data_path);
   const ParseResult parsed = load_scene_file(args.scene_path);
-  std::ifstream in(args.scene_path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const json base = json::parse(ss.str());
+  const json base = parse_json_strict(read_input_file(args.scene_path, "fit: scene"), args.scene_path);
   fit::Options o;
   o.threads = resolve_threads(args.threads);
   o.fit_scale = args.scale;
@@ -409,10 +386,14 @@ int cmd_fit(const FitArgs& args) {
   for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
            {"fit_grid.csv", grid}, {"fit_points.csv", pts}, {"fit_curve.csv", curve}, {"fit.json", summary.dump(2) + "\n"}})
     write_file_atomically(dir, name, text);
+  {
+    std::error_code ec;
+    fs::remove(dir / "fit.png", ec);  // a plot not drawn leaves no older picture beside these numbers
+  }
   const std::string& python = validate::plotting_python();
   if (!python.empty()) {
     const fs::path script = validate::plots_dir() / "fit_curve.py";
-    if (std::system(fmt::format("'{}' '{}' '{}' >/dev/null 2>&1", python, script.string(), dir.string()).c_str()) != 0)
+    if (validate::run_program({python, script.string(), dir.string()}, "/dev/null") != 0)
       std::fprintf(stderr, "axonguide: fit: %s failed; fit.png not drawn\n", script.string().c_str());
   }
   std::string what;

@@ -15,6 +15,7 @@
 #include "axonguide/error.hpp"
 #include "axonguide/resources.hpp"
 #include "axonguide/json_input.hpp"
+#include "axonguide/neurons_csv.hpp"
 #include "axonguide/output.hpp"
 #include "axonguide/run_folder.hpp"
 #include "axonguide/validate/report.hpp"
@@ -161,44 +162,32 @@ int cmd_view(const std::string& dir_name) {
 
   json meta;
   std::vector<std::string> missing, notes;
-  Csv neurons, bfs, paths, sources, particles;
-  if (!load_listed("neurons.csv", neurons)) missing.push_back("neurons.csv (no neurons to show)");
-  const std::size_t n = neurons.rows.size();
+  Csv bfs, paths, sources, particles;
+  // A run writes finite positions, known statuses and targets that are neuron ids (or
+  // -1); anything else is not a run's data, and is refused rather than drawn.
+  NeuronRows rows;
+  if (listed("neurons.csv"))
+    rows = read_neurons_csv(read_text(dir / "neurons.csv"), fmt::format("view: {}", (dir / "neurons.csv").string()));
+  else
+    missing.push_back("neurons.csv (no neurons to show)");
+  const std::size_t n = rows.size();
   std::vector<float> soma(3 * n), tip(3 * n), length(n);
   std::vector<std::uint8_t> status(n);
   std::vector<std::uint32_t> steps(n);
   std::vector<std::int32_t> target(n);
-  const char* names[] = {"growing", "connected", "exited", "max_steps"};
   double extent = 1, soma_radius = 0.25;
   std::uint32_t steps_run = 0;
-  // A run writes finite positions, known statuses and targets that are neuron ids (or
-  // -1); anything else is not a run's data, and is refused rather than drawn.
-  auto refuse = [&](std::size_t i, const std::string& why) {
-    throw InputError(fmt::format("view: {}: line {}: {}: not a run's data", (dir / "neurons.csv").string(), i + 2, why));
-  };
   for (std::size_t i = 0; i < n; ++i) {
-    const auto& r = neurons.rows[i];
-    if (r.size() < 12) refuse(i, "incomplete");
-    if (num(r[0]) != static_cast<double>(i)) refuse(i, fmt::format("id {} where {} belongs", printable(r[0]), i));
-    for (int k = 0; k < 3; ++k) {
-      if (!std::isfinite(num(r[1 + k])) || !std::isfinite(num(r[6 + k]))) refuse(i, "a soma or tip coordinate is not finite");
-      soma[3 * i + k] = static_cast<float>(num(r[1 + k])), tip[3 * i + k] = static_cast<float>(num(r[6 + k]));
-    }
-    soma_radius = num(r[4]);
-    if (!(soma_radius > 0) || !std::isfinite(soma_radius)) refuse(i, "the soma radius is not a positive number");
-    int known = -1;
-    for (int s = 0; s < 4; ++s)
-      if (r[5] == names[s]) known = s;
-    if (known < 0) refuse(i, fmt::format("status \"{}\" is not one of growing, connected, exited, max_steps", printable(r[5])));
-    status[i] = static_cast<std::uint8_t>(known);
-    length[i] = static_cast<float>(num(r[9]));
-    steps[i] = static_cast<std::uint32_t>(num(r[10]));
-    const double t = num(r[11]);
-    if (!(t == -1 || (t >= 0 && t < static_cast<double>(n) && t == std::floor(t))))
-      refuse(i, fmt::format("target {} is not a neuron id (0 to {}) or -1", printable(r[11]), n - 1));
-    target[i] = static_cast<std::int32_t>(t);
+    const core::Vec3 s = rows.soma[i], t = rows.tip[i];
+    soma[3 * i] = static_cast<float>(s.x), soma[3 * i + 1] = static_cast<float>(s.y), soma[3 * i + 2] = static_cast<float>(s.z);
+    tip[3 * i] = static_cast<float>(t.x), tip[3 * i + 1] = static_cast<float>(t.y), tip[3 * i + 2] = static_cast<float>(t.z);
+    soma_radius = rows.soma_radius[i];
+    status[i] = static_cast<std::uint8_t>(rows.status[i]);
+    length[i] = static_cast<float>(rows.length[i]);
+    steps[i] = rows.steps[i];
+    target[i] = rows.target[i] == core::kNoNeuron ? -1 : static_cast<std::int32_t>(rows.target[i]);
     steps_run = std::max(steps_run, steps[i]);
-    extent = std::max(extent, std::sqrt(num(r[1]) * num(r[1]) + num(r[2]) * num(r[2]) + num(r[3]) * num(r[3])));
+    extent = std::max(extent, std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z));
   }
   json data;
   data["soma"] = b64(soma);
@@ -359,11 +348,9 @@ int cmd_plot(const std::string& dir_name) {
   require_whole_run(dir, "plot");
   // The helper prints one line and exits 2 (data) or 3 (machine) on every failure it can
   // catch; anything else (a crash, a signal, no interpreter) is reported here as one line.
-  std::FILE* pipe = ::popen(fmt::format("'{}' - '{}'", python, dir.string()).c_str(), "w");
-  if (!pipe) throw RunError(fmt::format("plot: cannot start {}", python));
-  const bool sent = std::fwrite(source.data(), 1, source.size(), pipe) == source.size();
-  const int rc = ::pclose(pipe);
-  if (rc == -1 || !sent) throw RunError(fmt::format("plot: cannot start {}", python));
+  // Its messages go to this process's standard error, as they come.
+  const int rc = validate::run_program({python, "-", dir.string()}, {}, &source);
+  if (rc == -1) throw RunError(fmt::format("plot: cannot start {}", python));
   if (WIFSIGNALED(rc)) throw RunError(fmt::format("plot: {} was killed by signal {}", script, WTERMSIG(rc)));
   const int code = WIFEXITED(rc) ? WEXITSTATUS(rc) : kExitCannotRun;
   if (code == kExitOk || code == kExitBadInput || code == kExitCannotRun) return code;

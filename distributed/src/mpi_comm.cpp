@@ -34,7 +34,19 @@ int as_int(std::size_t n, const char* what) {
   return static_cast<int>(n);
 }
 
-constexpr std::size_t kChunk = std::size_t{1} << 30;
+// Messages go as pieces of at most 1 GiB (an int counts at most 2^31 - 1 bytes).
+// AXG_TEST_MPI_CHUNK=N makes the pieces N bytes, so that the tests take the pieced path
+// with small runs (tests/distributed/check_mpi_run.sh).
+std::size_t chunk_bytes() {
+  static const std::size_t bytes = [] {
+    const std::size_t most = std::size_t{1} << 30;
+    const char* e = std::getenv("AXG_TEST_MPI_CHUNK");
+    if (!e || !*e) return most;
+    const long long v = std::atoll(e);
+    return v >= 1 && static_cast<std::size_t>(v) <= most ? static_cast<std::size_t>(v) : most;
+  }();
+  return bytes;
+}
 constexpr int kGatherTag = 71;
 constexpr int kExchangeTag = 72;
 
@@ -86,36 +98,51 @@ class MpiComm final : public Comm {
 
   // One message to each peer and one from each, sizes carried by the messages themselves
   // (matched probes), received straight into `in`: a round trip, not the two collectives
-  // (counts, then payloads) and the staging copies of a neighbourhood all-to-all.
+  // (counts, then payloads) and the staging copies of a neighbourhood all-to-all. A message
+  // of a piece's size or more (chunk_bytes) goes as pieces, the last one shorter (empty when
+  // the size is a multiple): MPI keeps the order of messages between two ranks on one tag,
+  // and a piece shorter than a whole one ends the message.
   void exchange_into(const std::vector<Bytes>& out, std::vector<Bytes>& in) override {
-    const std::size_t n = peers_.size();
-    requests_.resize(n);
+    const std::size_t n = peers_.size(), chunk = chunk_bytes();
+    requests_.clear();
     for (std::size_t k = 0; k < n; ++k) {
-      check(MPI_Isend(out[k].data(), as_int(out[k].size(), "exchange"), MPI_BYTE, peers_[k], kExchangeTag, comm_,
-                      &requests_[k]),
-            "MPI_Isend");
-      ++traffic_.messages, traffic_.message_bytes += out[k].size();
+      std::size_t at = 0;
+      do {
+        const std::size_t len = std::min(chunk, out[k].size() - at);
+        requests_.emplace_back();
+        check(MPI_Isend(out[k].data() + at, static_cast<int>(len), MPI_BYTE, peers_[k], kExchangeTag, comm_,
+                        &requests_.back()),
+              "MPI_Isend");
+        ++traffic_.messages, traffic_.message_bytes += len;
+        at += len;
+        if (len < chunk) break;
+      } while (true);
     }
     in.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
-      MPI_Message message;
-      MPI_Status status;
-      check(MPI_Mprobe(peers_[k], kExchangeTag, comm_, &message, &status), "MPI_Mprobe");
+      in[k].clear();
       int count = 0;
-      check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
-      in[k].resize(static_cast<std::size_t>(count));
-      check(MPI_Mrecv(in[k].data(), count, MPI_BYTE, &message, MPI_STATUS_IGNORE), "MPI_Mrecv");
+      do {
+        MPI_Message message;
+        MPI_Status status;
+        check(MPI_Mprobe(peers_[k], kExchangeTag, comm_, &message, &status), "MPI_Mprobe");
+        check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
+        const std::size_t at = in[k].size();
+        in[k].resize(at + static_cast<std::size_t>(count));
+        check(MPI_Mrecv(in[k].data() + at, count, MPI_BYTE, &message, MPI_STATUS_IGNORE), "MPI_Mrecv");
+      } while (static_cast<std::size_t>(count) == chunk);
     }
-    check(MPI_Waitall(static_cast<int>(n), requests_.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+    check(MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   }
 
   std::vector<Bytes> gather(Bytes mine) override {
+    const std::size_t chunk = chunk_bytes();
     std::vector<Bytes> all;
     if (rank_ != 0) {
       std::uint64_t n = mine.size();
       check(MPI_Send(&n, 1, MPI_UINT64_T, 0, kGatherTag, comm_), "MPI_Send");
-      for (std::size_t at = 0; at < mine.size(); at += kChunk) {
-        const std::size_t len = std::min(kChunk, mine.size() - at);
+      for (std::size_t at = 0; at < mine.size(); at += chunk) {
+        const std::size_t len = std::min(chunk, mine.size() - at);
         check(MPI_Send(mine.data() + at, static_cast<int>(len), MPI_BYTE, 0, kGatherTag, comm_), "MPI_Send");
         ++traffic_.messages;
         traffic_.message_bytes += len;
@@ -128,8 +155,8 @@ class MpiComm final : public Comm {
       std::uint64_t n = 0;
       check(MPI_Recv(&n, 1, MPI_UINT64_T, r, kGatherTag, comm_, MPI_STATUS_IGNORE), "MPI_Recv");
       all[r].resize(n);
-      for (std::size_t at = 0; at < n; at += kChunk) {
-        const std::size_t len = std::min<std::size_t>(kChunk, n - at);
+      for (std::size_t at = 0; at < n; at += chunk) {
+        const std::size_t len = std::min<std::size_t>(chunk, n - at);
         check(MPI_Recv(all[r].data() + at, static_cast<int>(len), MPI_BYTE, r, kGatherTag, comm_, MPI_STATUS_IGNORE),
               "MPI_Recv");
       }

@@ -127,7 +127,7 @@ TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
 INSTANTIATE_TEST_SUITE_P(
     cli, CliBadInput,
     ::testing::Values(
-        BadRun{"run {tmp}/missing.json --out {tmp}/o", 2, "cannot open scene file"},
+        BadRun{"run {tmp}/missing.json --out {tmp}/o", 2, "missing.json: cannot open: No such file"},
         BadRun{"run {tmp} --out {tmp}/o", 2, "is a directory"},
         BadRun{"run {tmp}/garbage.json --out {tmp}/o", 2, "not valid JSON"},
         BadRun{"run {tmp}/nested.json --out {tmp}/o", 2, "nested deeper"},

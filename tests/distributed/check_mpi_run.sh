@@ -75,6 +75,16 @@ assert d['ranks']==$k and d['blocks'][0]*d['blocks'][1]*d['blocks'][2]==$k, d" |
   echo "$scene: mpirun -np 1, 2, 4 wrote the one-process files byte for byte"
 done
 
+# Messages cut into pieces (AXG_TEST_MPI_CHUNK bytes each, as messages of 1 GiB or more are
+# in a large run): the same bytes, a particle scene (migrants, halo, the save's gather) and
+# a grid scene (ghost planes, the pipelined sweep).
+for scene in particles-source-vector-sum grid-implicit-absorbing-snr; do
+  timeout 300 "${mpi[@]}" -x AXG_TEST_MPI_CHUNK=1000 -np 2 "$exe" run $scene.json --out chunk-$scene -q ||
+    fail "mpirun -np 2 run $scene with 1000-byte pieces exited $?"
+  same one-$scene chunk-$scene
+done
+echo "messages cut into 1000-byte pieces: the same bytes"
+
 # Every rank on one node and no messaging layer chosen: Open MPI's shared-memory path (pml
 # ob1), said in the facts; a layer the user chose stands, and gives the same bytes.
 pml() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['decomposition']['mpi_pml'])" "$1"; }
@@ -161,6 +171,16 @@ refuse() {  # refuse CODE PATTERN NP ARGS...: exit CODE, one error line matching
   [ "$(grep -c 'axonguide: ' refuse.log)" = 1 ] || fail "expected one message from rank 0: $(cat refuse.log)"
   grep -q "$pattern" refuse.log || fail "message without '$pattern': $(cat refuse.log)"
 }
+# One rank refuses its scene (a file the others see, it does not): rank 0 says so, and
+# every rank, so mpirun, ends with the same code.
+set +e
+timeout 120 "${mpi[@]}" -np 1 "$exe" run direct.json --out split -q : -np 1 "$exe" run nowhere.json --out split -q \
+  > refuse.log 2>&1
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "a scene one rank cannot read: exit $rc, expected 2: $(cat refuse.log)"
+grep -q 'another rank could not start the run (exit 2)' refuse.log || fail "rank 0 did not say why: $(cat refuse.log)"
+[ ! -e split ] || fail "a refused run made its folder"
 echo '{"neurons": {"count": 20, "region": {"radius": 1.2}}, "guidance": {"model": "direct"}}' > small.json
 refuse 2 'narrower than the halo' 5 small.json --out small
 [ ! -e small ] || fail "a refused run made its folder"

@@ -1,14 +1,18 @@
 // Assay metrics, sweeps and the fit's data reader (docs/methods.md §12).
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
+#include <fcntl.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
+#include <tuple>
 
 #include "axonguide/assay.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/fit.hpp"
+#include "axonguide/output.hpp"
 #include "axonguide/placement.hpp"
 #include "axonguide/sweep.hpp"
 #include "support.hpp"
@@ -197,6 +201,50 @@ TEST(sweep, BadSpecsNameTheKey) {
   expect_error(R"({"scene": "midline.json", "seeds": 0})", "seeds");
   expect_error(R"({"scene": "midline.json", "parameters": [{"key": "guidance.gain", "log": {"from": 0, "to": 1, "count": 3}}]})",
                "from and to must be > 0");
+  // A parameter's keys and sources: every key known, of its type, one source of values.
+  expect_error(R"({"scene": "midline.json", "parameters": [{"keys": ["steps", 5], "values": [3]}]})",
+               "parameters[0].keys[1] must be a string");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": 5, "values": [3]}]})", "parameters[0].key must be");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "valeus": [3]}]})", "unknown key valeus");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "name": 7, "values": [3]}]})",
+               "parameters[0].name must be a string");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "values": [3], "linear": {"from": 1, "to": 2, "count": 2}}]})",
+               "give one of");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"name": "c", "key": "steps", "cases": {"a": {"steps": 3}}}]})",
+               "name their keys inside each case");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"name": "c", "cases": {"a": {"seed": 3}}}]})",
+               "parameters[0].cases.a: the seed is swept");
+  // What would run one value under two labels, or one run twice.
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "values": [3]}, {"key": "steps", "name": "b", "values": [4]}]})",
+               "key steps is set by two parameters, steps and b");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "name": "a", "values": [3]}, {"key": "dt", "name": "a", "values": [0.5]}]})",
+               "two parameters are named a");
+  expect_error(R"({"scene": "midline.json", "seeds": [4, 1, 4]})", "seeds: 4 is given twice");
+  // 65536^4 members wrap a 64-bit count to 0; the product is bounded as it is taken.
+  expect_error(R"({"scene": "midline.json", "parameters": [
+                   {"key": "steps", "linear": {"from": 1, "to": 2, "count": 65536}},
+                   {"key": "dt", "linear": {"from": 1, "to": 2, "count": 65536}},
+                   {"key": "guidance.gain", "linear": {"from": 1, "to": 2, "count": 65536}},
+                   {"key": "neurons.count", "linear": {"from": 1, "to": 2, "count": 65536}}]})",
+               "more than 10^7 members");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": "dt", "linear": {"from": -1e308, "to": 1e308, "count": 3}}]})",
+               "is not a finite number");
+  // A point's bad value names the point and its values.
+  expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "values": [3, "abc"]}]})",
+               "point 1 (steps=abc)");
+}
+
+// A grid of one value is its `from`, linear or log.
+TEST(sweep, AOneValueGridIsItsFrom) {
+  for (const char* kind : {"linear", "log"}) {
+    const sweep::Spec spec = sweep::parse_spec(
+        json::parse(fmt::format(R"({{"scene": "midline.json",
+                                    "parameters": [{{"key": "guidance.gain", "{}": {{"from": 3, "to": 7, "count": 1}}}}]}})",
+                                kind)),
+        "s", std::filesystem::path(AXG_SOURCE_DIR) / "scenes");
+    ASSERT_EQ(spec.parameters[0].values.size(), 1u) << kind;
+    EXPECT_EQ(spec.parameters[0].values[0].get<double>(), 3.0) << kind;
+  }
 }
 
 // A sweep file and the scene file it names are read as strictly as a scene.
@@ -226,6 +274,22 @@ TEST(sweep, DuplicateKeysAndTrailingBytesAreRefused) {
                                                                ": duplicate key neurons:");
   expect_error("e.sweep.json", fmt::format(R"({{"scene": "{}", "bogus\u001b[2J": 1}})", scene),
                R"(unknown key bogus\u001b[2J ()");
+  // Nesting deep enough to exhaust the parser's stack (it crashed, at 100,000 levels), in the
+  // sweep file and in the scene file it names; and inputs that are not regular files.
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  expect_error("f.sweep.json", fmt::format(R"({{"scene": "{}", "parameters": [{{"key": "steps", "values": {}}}]}})",
+                                           scene, deep),
+               "JSON nested deeper than 64 levels");
+  std::ofstream(d.path() / "deep.json") << R"({"neurons": )" << deep << "}";
+  expect_error("g.sweep.json", R"({"scene": "deep.json"})", "nested deeper than");
+  expect_error("h.sweep.json", R"({"scene": "/dev/zero"})", "not a regular file");
+  std::filesystem::create_directories(d.path() / "adir");
+  try {
+    sweep::load_spec((d.path() / "adir").string());
+    ADD_FAILURE() << "a folder was read as a sweep";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
 }
 
 TEST(sweep, LogGridsHitTheirEndsExactly) {
@@ -323,6 +387,50 @@ TEST(fit, ExitCodesFollowTheThresholdAndTheData) {
   EXPECT_EQ(run_binary(fmt::format("fit {} {} --out {}/b --max-chi2 1e-9", data, common, d.path().string())), 1);
   std::ofstream(d.path() / "bad.csv") << "concentration,steepness,bias,se,count\n1,x,0,1,1\n";
   EXPECT_EQ(run_binary(fmt::format("fit {}/bad.csv {} --out {}/c", d.path().string(), common, d.path().string())), 2);
+  // NaN passes every comparison CLI11 makes: it would turn the chi2 gate and the seed pilot off.
+  EXPECT_EQ(run_binary(fmt::format("fit {} {} --out {}/e --max-chi2 nan", data, common, d.path().string())), 2);
+  EXPECT_EQ(run_binary(fmt::format("fit {} {} --out {}/e --target-se nan", data, common, d.path().string())), 2);
+  EXPECT_EQ(run_binary(fmt::format("fit /dev/zero {} --out {}/e", common, d.path().string())), 2);
+  EXPECT_FALSE(std::filesystem::exists(d.path() / "e"));
+}
+
+// A data row that makes no valid model scene is refused before any run, naming its line;
+// so is a grid of more parameter sets than can be held, and an --out that is a file.
+TEST(fit, DataOutsideTheScenesLimitsAndHugeGridsAreRefusedBeforeAnyRun) {
+  test::TempDir d;
+  json scene = json::parse(test::read_file(std::filesystem::path(AXG_SOURCE_DIR) / "scenes/assay-explant.json"));
+  scene["neurons"]["populations"][0]["count"] = 20;
+  scene["steps"] = 5;
+  const auto base = d.path() / "base.json";
+  std::ofstream(base) << scene.dump();
+  std::ofstream(d.path() / "data.csv") << "concentration,steepness,count,bias,se\n1,0.5,3,0.1,0.02\n2,0.5,3,0.15,0.02\n"
+                                          "2,1e300,3,0.1,0.02\n";
+  auto message = [&](const std::string& args) {
+    const std::string cmd = fmt::format("{} fit {} 2>&1", test::binary(), args);
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[512];
+    while (p && std::fgets(buf, sizeof buf, p)) out += buf;
+    const int status = p ? pclose(p) : -1;
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : 128, out);
+  };
+  const std::string common = fmt::format("--scene {} --seeds 1 --grid 2 --refine 0 --polish 0", base.string());
+  auto [rc, out] = message(fmt::format("{}/data.csv {} --out {}/o", d.path().string(), common, d.path().string()));
+  EXPECT_EQ(rc, 2) << out;
+  EXPECT_NE(out.find("data line 4 (concentration 2, steepness 1e+300) makes no valid model scene"), std::string::npos)
+      << out;
+  std::ofstream(d.path() / "good.csv") << "concentration,steepness,count,bias,se\n1,0.5,3,0.1,0.02\n"
+                                          "2,0.5,3,0.15,0.02\n2,1,3,0.1,0.02\n3,1,3,0.1,0.02\n";
+  std::tie(rc, out) = message(fmt::format("{}/good.csv {} --out {}/o --param gain --param kd --param scale --grid 50 "
+                                          "--refine 2",
+                                          d.path().string(), common, d.path().string()));
+  EXPECT_EQ(rc, 2) << out;
+  EXPECT_NE(out.find("a grid of 50^3 parameter sets is more than 1000000"), std::string::npos) << out;
+  std::ofstream(d.path() / "afile") << "x";
+  std::tie(rc, out) = message(fmt::format("{}/good.csv {} --out {}/afile", d.path().string(), common, d.path().string()));
+  EXPECT_EQ(rc, 2) << out;
+  EXPECT_NE(out.find("exists and is not a directory"), std::string::npos) << out;
+  EXPECT_EQ(out.find("fit "), std::string::npos) << "refused before the fit ran: " << out;
 }
 
 TEST(assay, CommandRefusesAFolderWhoseNeuronsDoNotMatchTheManifest) {
@@ -333,6 +441,89 @@ TEST(assay, CommandRefusesAFolderWhoseNeuronsDoNotMatchTheManifest) {
   EXPECT_TRUE(std::filesystem::exists(d.path() / "r/assay.csv"));
   std::ofstream(d.path() / "r/neurons.csv", std::ios::app) << "\n";
   EXPECT_EQ(run_binary(fmt::format("assay {}/r", d.path().string())), 2);
+}
+
+// The folder's name reaches the plotting helper as one argument, never through a shell: a
+// name with quotes and $(...) is a name (it ran the command inside it, before).
+TEST(assay, AFolderNameIsNeverShellSyntax) {
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "python3-matplotlib is not installed: the helper is not started";
+  test::TempDir d;
+  const std::string scene = (std::filesystem::path(AXG_SOURCE_DIR) / "scenes/midline-control.json").string();
+  const std::filesystem::path run = d.path() / "r'$(touch PWNED)'", marker = d.path() / "PWNED";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (::chdir(d.path().c_str()) != 0) ::_exit(126);
+    ::execl(test::binary().c_str(), "axonguide", "run", scene.c_str(), "--out", run.c_str(), "-q",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const pid_t assay = ::fork();
+  ASSERT_GE(assay, 0);
+  if (assay == 0) {
+    if (::chdir(d.path().c_str()) != 0) ::_exit(126);
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    ::dup2(devnull, 1);
+    ::execl(test::binary().c_str(), "axonguide", "assay", run.filename().c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ASSERT_EQ(::waitpid(assay, &status, 0), assay);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  EXPECT_TRUE(std::filesystem::exists(run / "assay.png"));
+  EXPECT_FALSE(std::filesystem::exists(marker)) << "the folder's name ran as a command";
+}
+
+// neurons.csv is read back as strictly as view reads it: rows a run does not write are
+// refused, exit 2, naming the line (the manifest re-hashed, so only the data is wrong).
+TEST(assay, RowsNoRunWritesAreRefused) {
+  test::TempDir d;
+  const std::string scene = (std::filesystem::path(AXG_SOURCE_DIR) / "scenes/midline-control.json").string();
+  ASSERT_EQ(run_binary(fmt::format("run {} --out {}/r -q", scene, d.path().string())), 0);
+  const auto dir = d.path() / "r";
+  const std::string original = test::read_file(dir / "neurons.csv");
+  const json manifest = json::parse(test::read_file(dir / "manifest.json"));
+  const std::size_t header = original.find('\n') + 1, second = original.find('\n', header) + 1;
+  for (const auto& [row, why] : {std::pair{"0,0,0,0,0.25,growing,0,0,0,0,nan,-1", "not finite"},
+                                 std::pair{"0,0,0,0,0.25,flying,0,0,0,0,0,-1", "status \"flying\""},
+                                 std::pair{"0,0,0,0,0.25,growing,0,0,0,-1,0,-1", "the length is negative"},
+                                 std::pair{"0,0,0,0,0.25,growing,0,0,0,0,2.5,-1", "steps 2.5 is not an integer"},
+                                 std::pair{"-1,0,0,0,0.25,growing,0,0,0,0,0,-1", "id -1 where 0 belongs"},
+                                 std::pair{"0,0,0,0,0.25,growing,0,0,0,0,0,-7", "target -7 is not a neuron id"}}) {
+    std::ofstream(dir / "neurons.csv", std::ios::binary) << original.substr(0, header) << row << "\n"
+                                                         << original.substr(second);
+    json m = manifest;
+    m["files"]["neurons.csv"]["sha256"] = sha256_file(dir / "neurons.csv");
+    std::ofstream(dir / "manifest.json") << m.dump(2);
+    const std::string cmd = fmt::format("{} assay {} 2>&1", test::binary(), dir.string());
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[512];
+    while (p && std::fgets(buf, sizeof buf, p)) out += buf;
+    const int status = p ? pclose(p) : -1;
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : 128, 2) << row << ": " << out;
+    EXPECT_NE(out.find(why), std::string::npos) << row << ": " << out;
+    EXPECT_NE(out.find("line 2"), std::string::npos) << row << ": " << out;
+  }
+  // Fewer rows than the scene's neurons (each row fine); then a manifest without its scene.
+  std::ofstream(dir / "neurons.csv", std::ios::binary) << original.substr(0, second);
+  json m = manifest;
+  m["files"]["neurons.csv"]["sha256"] = sha256_file(dir / "neurons.csv");
+  std::ofstream(dir / "manifest.json") << m.dump(2);
+  const std::string cmd = fmt::format("{} assay {} 2>&1", test::binary(), dir.string());
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[512];
+  while (p && std::fgets(buf, sizeof buf, p)) out += buf;
+  const int status = p ? pclose(p) : -1;
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : 128, 2) << out;
+  EXPECT_NE(out.find("1 neurons, where the run's scene has"), std::string::npos) << out;
+  m.erase("scene");
+  std::ofstream(dir / "manifest.json") << m.dump(2);
+  EXPECT_EQ(run_binary(fmt::format("assay {}", dir.string())), 2) << "a manifest without its scene";
 }
 
 }  // namespace

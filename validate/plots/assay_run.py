@@ -1,6 +1,7 @@
 """axonguide assay DIR: R(theta) (polar) and the turning-angle histogram -> DIR/assay.png."""
 import csv
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -28,4 +29,11 @@ ax2.set_xlabel("turning angle (°, + toward the gradient)")
 ax2.set_ylabel("axons")
 ax2.set_title("mean %s°" % metrics["mean_turning_deg"]["value"][:6], fontsize=9)
 fig.tight_layout()
-fig.savefig(d / "assay.png", dpi=110)
+# A temporary name, then a rename: the picture is whole under its name, or not there.
+tmp = d / ".assay.png.tmp-{}".format(os.getpid())
+try:
+    fig.savefig(tmp, dpi=110, format="png")
+    os.replace(tmp, d / "assay.png")
+finally:
+    if tmp.exists():
+        tmp.unlink()

@@ -1,5 +1,12 @@
 #include "axonguide/validate/report.hpp"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -88,6 +95,49 @@ void Report::skip(const std::string& name, const std::string& reason) {
 
 // The first Python that can import matplotlib: $AXG_PYTHON, Debian's /usr/bin/python3
 // (python3-matplotlib), then python3 on PATH. Empty when there is none.
+extern "C" char** environ;
+
+int run_program(const std::vector<std::string>& argv, const fs::path& log, const std::string* input) {
+  if (argv.empty()) return -1;
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const std::string out = log.string();
+  // Its standard input: a socket, not a pipe, so that a child that exits before reading it
+  // all makes send() fail (MSG_NOSIGNAL) instead of killing this process with SIGPIPE.
+  int sv[2] = {-1, -1};
+  if (input && ::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) return -1;
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  if (input) posix_spawn_file_actions_adddup2(&fa, sv[1], 0);
+  else posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  if (!out.empty()) {
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  }
+  pid_t pid = -1;
+  const int spawned = ::posix_spawnp(&pid, args[0], &fa, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (input) ::close(sv[1]);
+  if (spawned != 0) {
+    if (input) ::close(sv[0]);
+    return -1;
+  }
+  if (input) {
+    for (std::size_t sent = 0; sent < input->size();) {
+      const ssize_t n = ::send(sv[0], input->data() + sent, input->size() - sent, MSG_NOSIGNAL);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;  // it stopped reading: its exit status says why
+      sent += static_cast<std::size_t>(n);
+    }
+    ::close(sv[0]);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return status;
+}
+
 const std::string& plotting_python() {
   static const std::string found = [] {
     std::vector<std::string> candidates;
@@ -95,7 +145,7 @@ const std::string& plotting_python() {
     candidates.push_back("/usr/bin/python3");
     candidates.push_back("python3");
     for (const auto& c : candidates)
-      if (std::system(fmt::format("'{}' -c 'import matplotlib' > /dev/null 2>&1", c).c_str()) == 0) return c;
+      if (run_program({c, "-c", "import matplotlib"}, "/dev/null") == 0) return c;
     return std::string();
   }();
   return found;
@@ -108,10 +158,10 @@ void Report::plot(const std::string& script, const std::vector<std::string>& csv
     body_ += fmt::format("*(plot {} not made: no python3 with matplotlib; install python3-matplotlib)*\n\n", png_name);
     return;
   }
-  std::string cmd = fmt::format("'{}' '{}'", plotting_python(), py.string());
-  for (const auto& c : csv_names) cmd += fmt::format(" '{}'", (dir_ / c).string());
-  cmd += fmt::format(" '{}' > '{}' 2>&1", (dir_ / png_name).string(), (dir_ / (png_name + ".log")).string());
-  const int rc = std::system(cmd.c_str());
+  std::vector<std::string> argv{plotting_python(), py.string()};
+  for (const auto& c : csv_names) argv.push_back((dir_ / c).string());
+  argv.push_back((dir_ / png_name).string());
+  const int rc = run_program(argv, dir_ / (png_name + ".log"));
   if (rc == 0 && fs::exists(dir_ / png_name)) {
     std::error_code ec;
     fs::remove(dir_ / (png_name + ".log"), ec);

@@ -1,6 +1,7 @@
 #pragma once
 // Reading JSON that a user wrote (scenes, sweeps): stricter than nlohmann::json::parse, and
 // safe to quote back in a message.
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -12,8 +13,14 @@ namespace axg {
 // with `origin`, for invalid JSON, for a NUL byte anywhere (nlohmann's lexer would take it
 // for the end of the text, so `{}\0...` would pass), and for a key given twice in one object
 // (nlohmann keeps the last one), naming its key path: "neurons.region.shape",
-// "cues.sources[1].kind". The caller limits the nesting depth first.
-nlohmann::json parse_json_strict(const std::string& text, const std::string& origin);
+// "cues.sources[1].kind", and for nesting deeper than `max_depth` (checked before the parser
+// sees the text, which recurses once a level: a hostile file cannot exhaust the stack).
+inline constexpr int kMaxJsonNesting = 64;  // a scene needs 5 levels, a sweep or a manifest about 10
+nlohmann::json parse_json_strict(const std::string& text, const std::string& origin, int max_depth = kMaxJsonNesting);
+
+// The bytes of a file the user named as input: a regular file (not a folder, a device or a
+// pipe) of at most max_bytes. Throws InputError "WHAT PATH: why" otherwise.
+std::string read_input_file(const std::string& path, const std::string& what, std::size_t max_bytes = 16u << 20);
 
 // `text` with every byte that is not printable escaped, so that a message quoting a key or
 // a value cannot move the cursor or recolour the terminal: C0 controls and DEL as \u0001,

@@ -1,7 +1,12 @@
 #include "axonguide/json_input.hpp"
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <vector>
 
 #include <fmt/format.h>
@@ -68,7 +73,45 @@ std::size_t utf8_sequence(std::string_view s, std::size_t i, char32_t& cp) {
 
 }  // namespace
 
-json parse_json_strict(const std::string& text, const std::string& origin) {
+namespace {
+
+void check_nesting(const std::string& text, const std::string& origin, int max_depth) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (char ch : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (ch == '\\') escaped = true;
+      else if (ch == '"') in_string = false;
+      continue;
+    }
+    if (ch == '"') in_string = true;
+    else if (ch == '{' || ch == '[') {
+      if (++depth > max_depth) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", origin, max_depth));
+    } else if (ch == '}' || ch == ']') --depth;
+  }
+}
+
+}  // namespace
+
+std::string read_input_file(const std::string& path, const std::string& what, std::size_t max_bytes) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError(fmt::format("{} {}: cannot open: {}", what, path, std::strerror(errno)));
+  if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("{} {}: is a directory, not a file", what, path));
+  if (!S_ISREG(st.st_mode)) throw InputError(fmt::format("{} {}: not a regular file", what, path));
+  if (static_cast<std::size_t>(st.st_size) > max_bytes)
+    throw InputError(fmt::format("{} {}: {} bytes is too large (limit {})", what, path, st.st_size, max_bytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{} {}: cannot read: {}", what, path, std::strerror(errno)));
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{} {}: read error", what, path));
+  return buf.str();
+}
+
+json parse_json_strict(const std::string& text, const std::string& origin, int max_depth) {
+  check_nesting(text, origin, max_depth);
   if (const void* nul = std::memchr(text.data(), '\0', text.size())) {
     const std::size_t at = static_cast<std::size_t>(static_cast<const char*>(nul) - text.data());
     std::size_t line = 1, column = 1;

@@ -1,16 +1,11 @@
 #include "axonguide/scene.hpp"
 
-#include <sys/stat.h>
-
-#include <cerrno>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <initializer_list>
 #include <set>
-#include <algorithm>
 #include <tuple>
-#include <sstream>
 #include <utility>
 
 #include <fmt/format.h>
@@ -164,27 +159,6 @@ class ObjectReader {
   std::string path_;
   std::vector<const char*> allowed_;
 };
-
-// Rejects nesting deeper than kMaxNesting before the parser sees the text, so that a
-// hostile file cannot exhaust the stack.
-void check_nesting(const std::string& text, const std::string& origin) {
-  int depth = 0;
-  bool in_string = false, escaped = false;
-  for (char ch : text) {
-    if (in_string) {
-      if (escaped) escaped = false;
-      else if (ch == '\\') escaped = true;
-      else if (ch == '"') in_string = false;
-      continue;
-    }
-    if (ch == '"') in_string = true;
-    else if (ch == '{' || ch == '[') {
-      if (++depth > kMaxNesting)
-        throw InputError(fmt::format("{}: JSON nested deeper than {} levels; a scene needs 5",
-                                     origin, kMaxNesting));
-    } else if (ch == '}' || ch == ']') --depth;
-  }
-}
 
 core::Vec3 read_position(const json& v, const std::string& path) {
   if (!v.is_array() || v.size() != 3) fail(path, v, "must be [x, y, z] or null");
@@ -582,8 +556,7 @@ std::vector<Source> canonical_sources(std::vector<Source> sources) {
 namespace {
 
 ParseResult parse_scene_unescaped(const std::string& text, const std::string& origin) {
-  check_nesting(text, origin);
-  const json root = parse_json_strict(text, origin);
+  const json root = parse_json_strict(text, origin, kMaxNesting);
   ParseResult result;
   read_scene(root, result.scene);
   // Warn about ignored cues only when the user set some (the canonical form always has them).
@@ -621,20 +594,7 @@ void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warning
 }
 
 ParseResult load_scene_file(const std::string& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0)
-    throw InputError(fmt::format("{}: cannot open scene file: {}", path, std::strerror(errno)));
-  if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("{}: is a directory, not a scene file", path));
-  if (!S_ISREG(st.st_mode)) throw InputError(fmt::format("{}: not a regular file", path));
-  if (static_cast<std::size_t>(st.st_size) > kMaxSceneBytes)
-    throw InputError(fmt::format("{}: {} bytes is too large for a scene (limit {})", path,
-                                 st.st_size, kMaxSceneBytes));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read scene file: {}", path, std::strerror(errno)));
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("{}: read error", path));
-  return parse_scene(buf.str(), path);
+  return parse_scene(read_input_file(path, "scene file", kMaxSceneBytes), path);
 }
 
 const char* name_of(RegionShape v) {

@@ -15,6 +15,7 @@
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/core/rosenbrock.hpp"
 #include "axonguide/error.hpp"
+#include "axonguide/json_input.hpp"
 #include "axonguide/signalling_setup.hpp"
 #include "axonguide/sweep.hpp"
 
@@ -33,13 +34,7 @@ double exp_of(double x) { return core::pm::exp(x); }
 
 const char* measure_name(int m) { return m == kBias ? "bias" : "outgrowth"; }
 
-Data load_data(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("fit: cannot read {}", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_data(text.str(), path);
-}
+Data load_data(const std::string& path) { return parse_data(read_input_file(path, "fit: data"), path); }
 
 Data parse_data(const std::string& text, const std::string& path) {
   std::istringstream in(text);
@@ -224,9 +219,13 @@ Evaluated evaluate(const json& base, const std::vector<std::pair<double, double>
   const std::size_t per = per_side * sides;
   const std::vector<sweep::MemberResult> results = sweep::run_in_memory(specs, o.threads, o.run);
   for (std::size_t k = 0; k < results.size(); ++k)
-    if (!results[k].ok)
-      throw RunError(fmt::format("fit: the model run at {} failed: {}", describe(ps, sets[k / per]),
-                                 results[k].message));
+    if (!results[k].ok) {
+      const std::string what = fmt::format("fit: the model run at {} (concentration {}, steepness {}) failed: {}",
+                                           describe(ps, sets[k / per]), pts[k % per_side / S].first,
+                                           pts[k % per_side / S].second, results[k].message);
+      if (results[k].exit_code == 2) throw InputError(what);  // the scene the data made is not valid
+      throw RunError(what);
+    }
   runs += results.size();
   Evaluated ev;
   ev.mean.resize(sets.size());
@@ -419,8 +418,37 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
   if (r.dof < 1)
     throw InputError(fmt::format("fit: {} measured values for {} parameters: at least {} are needed",
                                  r.residuals.size(), k, k + 1));
+  // The grids' sizes, n^k parameter sets a round, bounded before anything runs.
+  constexpr std::size_t kMaxSets = 1000000;
+  for (const int n : {o.coarse, o.refine_rounds > 0 ? 5 : 1}) {
+    std::size_t sets = 1;
+    for (std::size_t j = 0; j < k && sets <= kMaxSets; ++j)
+      sets = sets > kMaxSets / static_cast<std::size_t>(n) ? kMaxSets + 1 : sets * static_cast<std::size_t>(n);
+    if (sets > kMaxSets)
+      throw InputError(fmt::format("fit: a grid of {}^{} parameter sets is more than {} (fewer parameters, or a "
+                                   "smaller --grid)",
+                                   n, k, kMaxSets));
+  }
   std::vector<double> lo(k), hi(k);
   for (std::size_t j = 0; j < k; ++j) lo[j] = log_of(r.parameters[j].lo), hi[j] = log_of(r.parameters[j].hi);
+  // Every data point must make a valid scene at both ends of the parameters' ranges: a bad
+  // row is refused now, naming its line, not after the first batch of runs.
+  {
+    Params low(k), high(k);
+    for (std::size_t j = 0; j < k; ++j) low[j] = r.parameters[j].lo, high[j] = r.parameters[j].hi;
+    for (const Params& p : {low, high})
+      for (const sweep::Spec& s : specs_for(base, pts, r.parameters, p, {1}, o.mirror))
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+          try {
+            parse_scene(sweep::member_scene_json(s, i).dump(), origin);
+          } catch (const InputError& e) {
+            throw InputError(fmt::format("fit: data line {} (concentration {}, steepness {}) makes no valid model scene "
+                                         "at {}: {}",
+                                         data.points[i].line, data.points[i].concentration, data.points[i].steepness,
+                                         describe(r.parameters, p), e.what()));
+          }
+        }
+  }
 
   // The seeds: a pilot at the centre of the coarse grid measures each point's spread over
   // seeds; enough seeds are then taken for model SE <= target x data SE at every point.

@@ -1,9 +1,14 @@
 #include "axonguide/sweep.hpp"
 
+#include <signal.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <set>
 #include <mutex>
 #include <sstream>
 
@@ -103,10 +108,15 @@ std::vector<json> read_values(const json& v, const std::string& origin, const st
     if (log && !(a > 0 && b > 0)) bad(origin, path + ".log: from and to must be > 0");
     // Portable log/exp: the same grid on every machine.
     const double la = log ? core::pm::log(a) : a, lb = log ? core::pm::log(b) : b;
+    // The ends are exact: the first value is `from` (the only one when count is 1), the
+    // last is `to`.
     for (std::uint64_t k = 0; k < n; ++k) {
       const double t = n == 1 ? 0.0 : static_cast<double>(k) / static_cast<double>(n - 1);
       double x = k + 1 == n ? lb : la + (lb - la) * t;
-      x = log ? (k == 0 ? a : (k + 1 == n ? b : core::pm::exp(x))) : (k + 1 == n ? b : x);
+      x = k == 0 ? a : (k + 1 == n ? b : (log ? core::pm::exp(x) : x));
+      if (!std::isfinite(x))
+        bad(origin, fmt::format("{}.{}: the value at {} of {} is not a finite number (from {} to {})", path, kind, k, n,
+                                a, b));
       out.push_back(x);
     }
     return out;
@@ -156,12 +166,9 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
   if (scene.is_string()) {
     fs::path p = scene.get<std::string>();
     if (p.is_relative()) p = folder / p;
-    std::ifstream in(p);
-    if (!in) bad(origin, fmt::format("scene = {}: cannot read {}", scene.dump(), p.string()));
-    std::stringstream ss;
-    ss << in.rdbuf();
     // A scene file: duplicate keys and trailing bytes are refused as parse_scene refuses them.
-    s.base = parse_json_strict(ss.str(), fmt::format("sweep {}: scene {}", origin, p.string()));
+    s.base = parse_json_strict(read_input_file(p.string(), fmt::format("sweep {}: scene", origin)),
+                               fmt::format("sweep {}: scene {}", origin, p.string()));
     s.base_origin = p.string();
   } else if (scene.is_object()) {
     s.base = scene;
@@ -184,30 +191,64 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
       const std::string path = fmt::format("parameters[{}]", k);
       const json& p = ps[k];
       if (!p.is_object()) bad(origin, path + " must be an object {key or keys, values | log | linear, name}");
+      for (auto it = p.begin(); it != p.end(); ++it)
+        if (it.key() != "key" && it.key() != "keys" && it.key() != "values" && it.key() != "log" &&
+            it.key() != "linear" && it.key() != "name" && it.key() != "cases")
+          bad(origin, fmt::format("{}: unknown key {} (allowed: key, keys, values, log, linear, name, cases)", path,
+                                  it.key()));
+      if (p.contains("name") && !p["name"].is_string()) bad(origin, path + ".name must be a string");
+      const int sources = static_cast<int>(p.contains("values")) + static_cast<int>(p.contains("log")) +
+                          static_cast<int>(p.contains("linear")) + static_cast<int>(p.contains("cases"));
+      if (sources > 1) bad(origin, path + ": give one of \"values\", \"log\", \"linear\" and \"cases\"");
       Parameter par;
       if (p.contains("cases")) {
         const json& cs = p["cases"];
-        if (!cs.is_object() || cs.empty() || !p.contains("name") || !p["name"].is_string())
+        if (!cs.is_object() || cs.empty() || !p.contains("name"))
           bad(origin, path + ": \"cases\" must be a non-empty object {label: {key: value, ...}} with a \"name\"");
+        if (p.contains("key") || p.contains("keys"))
+          bad(origin, path + ": \"cases\" name their keys inside each case, not in \"key\" or \"keys\"");
         par.name = p["name"].get<std::string>();
         for (auto it = cs.begin(); it != cs.end(); ++it) {
           if (!it.value().is_object()) bad(origin, path + ".cases." + it.key() + " must be an object {key: value}");
+          for (auto kv = it.value().begin(); kv != it.value().end(); ++kv)
+            if (kv.key() == "seed") bad(origin, path + ".cases." + it.key() + ": the seed is swept by \"seeds\"");
           par.values.push_back(it.key());
           par.cases.push_back(it.value());
         }
         s.parameters.push_back(std::move(par));
         continue;
       }
-      if (p.contains("key") && p["key"].is_string()) par.keys.push_back(p["key"].get<std::string>());
-      if (p.contains("keys") && p["keys"].is_array())
-        for (const auto& key : p["keys"])
-          if (key.is_string()) par.keys.push_back(key.get<std::string>());
+      if (p.contains("key") && p.contains("keys")) bad(origin, path + ": give \"key\" or \"keys\", not both");
+      if (p.contains("key")) {
+        if (!p["key"].is_string()) bad(origin, path + ".key must be a string \"a.b.c\"");
+        par.keys.push_back(p["key"].get<std::string>());
+      }
+      if (p.contains("keys")) {
+        if (!p["keys"].is_array()) bad(origin, path + ".keys must be an array of strings");
+        for (std::size_t i = 0; i < p["keys"].size(); ++i) {
+          if (!p["keys"][i].is_string()) bad(origin, fmt::format("{}.keys[{}] must be a string \"a.b.c\"", path, i));
+          par.keys.push_back(p["keys"][i].get<std::string>());
+        }
+      }
       if (par.keys.empty()) bad(origin, path + " needs \"key\": \"a.b.c\" or \"keys\": [...]");
       for (const auto& key : par.keys)
         if (key == "seed") bad(origin, path + ": the seed is swept by \"seeds\", not as a parameter");
-      par.name = p.contains("name") && p["name"].is_string() ? p["name"].get<std::string>() : par.keys[0];
+      par.name = p.contains("name") ? p["name"].get<std::string>() : par.keys[0];
       par.values = read_values(p, origin, path);
       s.parameters.push_back(std::move(par));
+    }
+    // One parameter per scene key, and one column per name: a key set by two parameters
+    // would run one value under two labels.
+    std::map<std::string, std::string> setter;
+    std::set<std::string> names;
+    for (const Parameter& par : s.parameters) {
+      if (!names.insert(par.name).second) bad(origin, fmt::format("two parameters are named {}", par.name));
+      std::set<std::string> keys(par.keys.begin(), par.keys.end());
+      for (const json& c : par.cases)
+        for (auto kv = c.begin(); kv != c.end(); ++kv) keys.insert(kv.key());
+      for (const std::string& key : keys)
+        if (const auto [it, fresh] = setter.emplace(key, par.name); !fresh)
+          bad(origin, fmt::format("key {} is set by two parameters, {} and {}", key, it->second, par.name));
     }
     if (s.zip)
       for (const auto& par : s.parameters)
@@ -222,8 +263,13 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
     if (n < 1 || n > 1000000) bad(origin, "seeds must be a count in [1, 1000000] or a list of seeds");
     for (std::uint64_t k = 1; k <= n; ++k) s.seeds.push_back(k);
   } else if (j["seeds"].is_array() && !j["seeds"].empty()) {
+    std::set<std::uint64_t> seen;
     for (const auto& x : j["seeds"]) {
       if (!x.is_number_unsigned()) bad(origin, "seeds: every seed must be an unsigned integer");
+      if (!seen.insert(x.get<std::uint64_t>()).second)
+        bad(origin, fmt::format("seeds: {} is given twice (a repeated seed repeats its run, and narrows the intervals "
+                                "without new data)",
+                                x.get<std::uint64_t>()));
       s.seeds.push_back(x.get<std::uint64_t>());
     }
   } else {
@@ -234,20 +280,36 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
     else if (j["outputs"] == "runs") s.write_runs = true;
     else bad(origin, "outputs must be \"metrics\" (records only) or \"runs\" (also each member's run folder)");
   }
-  if (member_count(s) > 10000000) bad(origin, fmt::format("{} members: at most 10^7", member_count(s)));
+  // The member count, multiplied with a bound (a product of large counts wraps to 0).
+  constexpr std::uint64_t kMaxMembers = 10000000;
+  std::uint64_t members = s.seeds.size();
+  for (std::size_t k = 0; k < s.parameters.size() && !(s.zip && k > 0); ++k) {
+    const std::uint64_t n = s.parameters[k].values.size();  // >= 1
+    if (members > kMaxMembers / n) {
+      members = kMaxMembers + 1;
+      break;
+    }
+    members *= n;
+  }
+  if (members > kMaxMembers) bad(origin, "more than 10^7 members (points x seeds): at most 10^7");
   // Every point must make a valid scene: check them before anything runs.
-  for (std::size_t p = 0; p < point_count(s); ++p)
-    parse_scene(member_scene_json(s, p * s.seeds.size()).dump(), fmt::format("{} point {}", origin, p));
+  for (std::size_t p = 0; p < point_count(s); ++p) {
+    const std::vector<json> values = point_values(s, p);
+    try {
+      parse_scene(member_scene_json(s, p * s.seeds.size()).dump(), fmt::format("{} point {}", origin, p));
+    } catch (const InputError& e) {
+      std::string where;
+      for (std::size_t k = 0; k < s.parameters.size(); ++k)
+        where += fmt::format("{}{}={}", k ? ", " : "", s.parameters[k].name, value_text(values[k]));
+      throw InputError(fmt::format("sweep {}: point {} ({}): {}", origin, p, where, e.what()));
+    }
+  }
   return s;
 }
 
 Spec load_spec(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("sweep {}: cannot read the file", path));
-  std::stringstream ss;
-  ss << in.rdbuf();
   try {
-    const json j = parse_json_strict(ss.str(), fmt::format("sweep {}", path));
+    const json j = parse_json_strict(read_input_file(path, "sweep"), fmt::format("sweep {}", path));
     return parse_spec(j, path, fs::path(path).parent_path());
   } catch (const InputError& e) {
     throw InputError(printable(e.what()));  // messages quote keys and values of the files
@@ -425,9 +487,31 @@ double metric(const MemberResult& r, const std::string& name) {
   throw std::invalid_argument("sweep::metric: no metric named " + name);
 }
 
+namespace {
+
+// Removes the temporary records (".mNNNNNNN.json.tmp-PID") of sweeps that were killed while
+// they wrote them; a live process's (another sweep writing this folder now) are left.
+void remove_killed_temporaries(const fs::path& members) {
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (const auto& e : fs::directory_iterator(members, ec)) {
+    const std::string name = e.path().filename().string();
+    const auto at = name.rfind(".json.tmp-");
+    if (name.size() < 2 || name[0] != '.' || name[1] != 'm' || at == std::string::npos) continue;
+    const std::string pid = name.substr(at + 10);
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno == EPERM) continue;  // alive
+    stale.push_back(e.path());
+  }
+  for (const fs::path& p : stale) fs::remove(p, ec);
+}
+
+}  // namespace
+
 Outcome run(const Spec& spec, const fs::path& dir, const Options& options) {
   prepare_output_dir(dir);
   prepare_output_dir(dir / "members");
+  remove_killed_temporaries(dir / "members");
   const std::size_t total = member_count(spec);
   Outcome out;
   out.members.resize(total);

@@ -60,6 +60,15 @@ std::string num(double v, int digits = 4);
 // empty when there is none.
 const std::string& plotting_python();
 
+// Runs argv[0] (looked up on PATH) with these arguments and no shell, so that no byte of a
+// folder's name is ever taken for shell syntax. Standard output and error go to `log`
+// (created or truncated; "/dev/null" discards them), or are this process's when it is
+// empty; `input`, when given, is written
+// to its standard input (else it reads /dev/null). Returns the wait status (0: exited 0),
+// or -1 when it could not start.
+int run_program(const std::vector<std::string>& argv, const std::filesystem::path& log = {},
+                const std::string* input = nullptr);
+
 // Where the plotting scripts live: AXG_PLOTS_DIR, or validate/plots under data_dir()
 // (axonguide/resources.hpp: the installed share/axonguide, or the source tree).
 std::filesystem::path plots_dir();

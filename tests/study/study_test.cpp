@@ -328,6 +328,7 @@ TEST(fit, MalformedDataNamesTheLine) {
   expect_error("concentration,steepness,outgrowth,outgrowth_se,count\n1,0.2,300,10,3\n",
                "one measured column: its SE is \"se\"");
   expect_error(header + "1,0.2,0.1,0.01,3\n# a comment\n2,0.2,abc,0.01,3\n", "line 4: bias = \"abc\"");
+  expect_error(header + "1,0.2,0.1,0.01,1e30\n", "line 2: count = 1e+30 must be an integer in [1, 10^9]");
   expect_error(header + "1,0.2,0.1,0.01,3\n2,0.2,0.1,0,3\n3,0.2,0.1,0.1,3\n", "line 3: se = 0");
   expect_error(header + "1,0.2,0.1,0.01\n", "line 2: 4 fields");
   expect_error(header + "-1,0.2,0.1,0.01,3\n", "line 2: concentration");

@@ -118,8 +118,8 @@ Data parse_data(const std::string& text, const std::string& path) {
     }
     if (!(v[0] > 0)) throw InputError(fmt::format("fit: {} line {}: concentration = {} must be > 0", path, n, v[0]));
     if (v[1] < 0) throw InputError(fmt::format("fit: {} line {}: steepness = {} must be >= 0", path, n, v[1]));
-    if (v[2] < 1 || v[2] != std::floor(v[2]))
-      throw InputError(fmt::format("fit: {} line {}: count = {} must be an integer >= 1", path, n, v[2]));
+    if (v[2] < 1 || v[2] > 1e9 || v[2] != std::floor(v[2]))  // 1e30 was cast to an integer: undefined
+      throw InputError(fmt::format("fit: {} line {}: count = {} must be an integer in [1, 10^9]", path, n, v[2]));
     DataPoint p{v[0], v[1], {v[3], v[5]}, {v[4], v[6]}, static_cast<std::uint64_t>(v[2]), n};
     for (int m = 0; m < kMeasures; ++m)
       if (out.measured[m] && !(p.se[m] > 0))

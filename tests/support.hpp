@@ -2,16 +2,19 @@
 // Helpers shared by the tests: temporary directories, running scenes, hashing outputs.
 #include <fcntl.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 #include <rapidcheck.h>
@@ -140,6 +143,18 @@ inline rc::Gen<Scene> gen_placement_scene(std::uint64_t max_count) {
 // Count-based sensing: the count noise form (the default; set explicitly so that a test
 // does not depend on the default).
 inline void use_count_sensing(Scene& s) { s.guidance.noise = core::NoiseForm::kCount; }
+
+// The command (binary()) with these arguments, through the shell: its exit code, and what
+// it printed on both streams.
+inline std::pair<int, std::string> run_command(const std::string& args) {
+  const std::string cmd = fmt::format("{} {} 2>&1", binary(), args);
+  std::string out;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  char buf[512];
+  while (p && std::fgets(buf, sizeof buf, p)) out += buf;
+  const int status = p ? ::pclose(p) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, out};
+}
 
 inline std::string read_file(const fs::path& p) {
   std::FILE* f = std::fopen(p.c_str(), "rb");

@@ -62,6 +62,27 @@ json base_scene() {
   return s;
 }
 
+// The scenes of the --force tests: one with VTK frames in a subfolder, one without paths,
+// and one whose placement jams below the packing bound (fraction 0.4), so that it fails
+// inside the run, where only the run can find it, with no checkpoint.
+json cue_with_vtk() {
+  json s = base_scene();
+  s["output"]["vtk"] = true;
+  return s;
+}
+json direct_without_paths() {
+  json s = base_scene();
+  s["guidance"]["model"] = "direct";
+  s["output"]["paths"] = false;
+  return s;
+}
+json jamming() {
+  json s = base_scene();
+  s["neurons"] = {{"count", 400}, {"soma_radius", 0.5}, {"region", {{"radius", 5}}}};
+  s["output"]["checkpoint_every"] = 0;
+  return s;
+}
+
 std::vector<std::pair<std::string, json>> field_scenes() {
   std::vector<std::pair<std::string, json>> out;
   json s = base_scene();
@@ -456,14 +477,9 @@ TEST(resume, EveryBundledSceneRoundTripsThroughItsCanonicalForm) {
 // One run per folder.
 TEST(run_folder, RefusesAnotherRunsFolderAndForceRemovesExactlyItsFiles) {
   test::TempDir tmp;
-  json cue = base_scene();
-  cue["output"]["vtk"] = true;
   const fs::path cue_path = tmp.path() / "cue.json", direct_path = tmp.path() / "direct.json";
-  std::ofstream(cue_path) << cue.dump();
-  json direct = base_scene();
-  direct["guidance"]["model"] = "direct";
-  direct["output"]["paths"] = false;
-  std::ofstream(direct_path) << direct.dump();
+  std::ofstream(cue_path) << cue_with_vtk().dump();
+  std::ofstream(direct_path) << direct_without_paths().dump();
   const fs::path out = tmp.path() / "o";
   ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", cue_path.string(), out.string()), tmp.path()).code, 0);
   ASSERT_TRUE(fs::exists(out / "paths.csv") && fs::exists(out / "vtk") && fs::exists(out / "growth.pvd"));
@@ -519,14 +535,9 @@ TEST(run_folder, ForceWithARefusedSceneKeepsThePreviousRun) {
 // leaves the folder as it was.
 TEST(run_folder, ForceRefusesToWriteOverAFileTheOldManifestDoesNotList) {
   test::TempDir tmp;
-  json direct = base_scene();
-  direct["guidance"]["model"] = "direct";
-  direct["output"]["paths"] = false;
   const fs::path direct_path = tmp.path() / "direct.json", cue_path = tmp.path() / "cue.json", out = tmp.path() / "o";
-  std::ofstream(direct_path) << direct.dump();
-  json cue = base_scene();
-  cue["output"]["vtk"] = true;
-  std::ofstream(cue_path) << cue.dump();
+  std::ofstream(direct_path) << direct_without_paths().dump();
+  std::ofstream(cue_path) << cue_with_vtk().dump();
   ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", direct_path.string(), out.string()), tmp.path()).code, 0);
   std::ofstream(out / "paths.csv") << "mine\n";  // the direct run writes no paths.csv
   fs::create_directories(out / "vtk");
@@ -574,14 +585,9 @@ TEST(run_folder, AManifestKeyOfAnotherTypeIsBadInput) {
 // every file in it: --resume finishes it, with nothing of the old run left.
 TEST(run_folder, AKilledReplacementIsStillOneRun) {
   test::TempDir tmp;
-  json cue = base_scene();
-  cue["output"]["vtk"] = true;
-  json direct = base_scene();
-  direct["guidance"]["model"] = "direct";
-  direct["output"]["paths"] = false;
   const fs::path cue_path = tmp.path() / "cue.json", direct_path = tmp.path() / "direct.json";
-  std::ofstream(cue_path) << cue.dump();
-  std::ofstream(direct_path) << direct.dump();
+  std::ofstream(cue_path) << cue_with_vtk().dump();
+  std::ofstream(direct_path) << direct_without_paths().dump();
   const fs::path want = tmp.path() / "want";
   ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", direct_path.string(), want.string()), tmp.path()).code, 0);
   for (const std::string point : {"step 5", "output neurons.csv", "manifest"}) {
@@ -612,12 +618,9 @@ std::map<std::string, std::string> every_file(const fs::path& dir) {
 // gone. The same --force that succeeds leaves no .replaced/ either.
 TEST(run_folder, AForceRunThatFailsPutsThePreviousRunBack) {
   test::TempDir tmp;
-  json cue = base_scene();
-  cue["output"]["vtk"] = true;
+  json cue = cue_with_vtk();
   cue["output"]["checkpoint_every"] = 0;  // no checkpoint: a failure leaves nothing to resume
-  json jam = base_scene();
-  jam["neurons"] = {{"count", 400}, {"soma_radius", 0.5}, {"region", {{"radius", 5}}}};  // fraction 0.4
-  jam["output"]["checkpoint_every"] = 0;
+  const json jam = jamming();
   json big = base_scene();
   big["neurons"]["count"] = 3000;
   big["guidance"]["model"] = "direct";
@@ -654,19 +657,11 @@ TEST(run_folder, AForceRunThatFailsPutsThePreviousRunBack) {
 // the --resume that finds nothing to do.
 TEST(run_folder, AKilledReplacementKeepsThePreviousRunUntilItIsWhole) {
   test::TempDir tmp;
-  json cue = base_scene();
-  cue["output"]["vtk"] = true;
-  json direct = base_scene();
-  direct["guidance"]["model"] = "direct";
-  direct["output"]["paths"] = false;
-  json jam = base_scene();
-  jam["neurons"] = {{"count", 400}, {"soma_radius", 0.5}, {"region", {{"radius", 5}}}};
-  jam["output"]["checkpoint_every"] = 0;
   const fs::path cue_path = tmp.path() / "cue.json", direct_path = tmp.path() / "direct.json",
                  jam_path = tmp.path() / "jam.json";
-  std::ofstream(cue_path) << cue.dump();
-  std::ofstream(direct_path) << direct.dump();
-  std::ofstream(jam_path) << jam.dump();
+  std::ofstream(cue_path) << cue_with_vtk().dump();
+  std::ofstream(direct_path) << direct_without_paths().dump();
+  std::ofstream(jam_path) << jamming().dump();
   const fs::path want = tmp.path() / "want";
   ASSERT_EQ(axonguide(fmt::format("run {} --out {} -q", direct_path.string(), want.string()), tmp.path()).code, 0);
   const std::string jam_force = fmt::format("run {} --out {{}} -q --force", jam_path.string());

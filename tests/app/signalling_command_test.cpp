@@ -17,15 +17,7 @@ namespace {
 
 using nlohmann::json;
 
-std::pair<int, std::string> run_command(const std::string& args) {
-  const std::string cmd = fmt::format("{} {} 2>&1", test::binary(), args);
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[512];
-  while (p && std::fgets(buf, sizeof buf, p)) out += buf;
-  const int status = p ? pclose(p) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, out};
-}
+using test::run_command;
 
 TEST(signalling_command, AFailedStiffStepIsExitThreeNamingWhereOnBothEngines) {
   test::TempDir d;

@@ -374,6 +374,7 @@ int run_binary(const std::string& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
 
+
 TEST(fit, ExitCodesFollowTheThresholdAndTheData) {
   test::TempDir d;
   const std::string data = (std::filesystem::path(AXG_SOURCE_DIR) / "data/assay/bicknell2018-summary.csv").string();
@@ -406,15 +407,7 @@ TEST(fit, DataOutsideTheScenesLimitsAndHugeGridsAreRefusedBeforeAnyRun) {
   std::ofstream(base) << scene.dump();
   std::ofstream(d.path() / "data.csv") << "concentration,steepness,count,bias,se\n1,0.5,3,0.1,0.02\n2,0.5,3,0.15,0.02\n"
                                           "2,1e300,3,0.1,0.02\n";
-  auto message = [&](const std::string& args) {
-    const std::string cmd = fmt::format("{} fit {} 2>&1", test::binary(), args);
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[512];
-    while (p && std::fgets(buf, sizeof buf, p)) out += buf;
-    const int status = p ? pclose(p) : -1;
-    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : 128, out);
-  };
+  auto message = [&](const std::string& args) { return test::run_command("fit " + args); };
   const std::string common = fmt::format("--scene {} --seeds 1 --grid 2 --refine 0 --polish 0", base.string());
   auto [rc, out] = message(fmt::format("{}/data.csv {} --out {}/o", d.path().string(), common, d.path().string()));
   EXPECT_EQ(rc, 2) << out;
@@ -494,13 +487,8 @@ TEST(assay, RowsNoRunWritesAreRefused) {
     json m = manifest;
     m["files"]["neurons.csv"]["sha256"] = sha256_file(dir / "neurons.csv");
     std::ofstream(dir / "manifest.json") << m.dump(2);
-    const std::string cmd = fmt::format("{} assay {} 2>&1", test::binary(), dir.string());
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[512];
-    while (p && std::fgets(buf, sizeof buf, p)) out += buf;
-    const int status = p ? pclose(p) : -1;
-    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : 128, 2) << row << ": " << out;
+    const auto [rc, out] = test::run_command("assay " + dir.string());
+    EXPECT_EQ(rc, 2) << row << ": " << out;
     EXPECT_NE(out.find(why), std::string::npos) << row << ": " << out;
     EXPECT_NE(out.find("line 2"), std::string::npos) << row << ": " << out;
   }
@@ -509,13 +497,8 @@ TEST(assay, RowsNoRunWritesAreRefused) {
   json m = manifest;
   m["files"]["neurons.csv"]["sha256"] = sha256_file(dir / "neurons.csv");
   std::ofstream(dir / "manifest.json") << m.dump(2);
-  const std::string cmd = fmt::format("{} assay {} 2>&1", test::binary(), dir.string());
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[512];
-  while (p && std::fgets(buf, sizeof buf, p)) out += buf;
-  const int status = p ? pclose(p) : -1;
-  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : 128, 2) << out;
+  const auto [rc, out] = test::run_command("assay " + dir.string());
+  EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("1 neurons, where the run's scene has"), std::string::npos) << out;
   m.erase("scene");
   std::ofstream(dir / "manifest.json") << m.dump(2);
@@ -648,14 +631,7 @@ TEST(fit, BadParametersAndCorrectionsExitTwoNamingThem) {
   const auto base = d.path() / "base.json";
   std::ofstream(base) << small_signalling_explant().dump();
   auto message = [&](const std::string& args) {
-    const std::string cmd = fmt::format("{} fit {} --scene {} --out {}/o {} 2>&1", test::binary(), data, base.string(),
-                                        d.path().string(), args);
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[512];
-    while (p && std::fgets(buf, sizeof buf, p)) out += buf;
-    const int status = p ? pclose(p) : -1;
-    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : 128, out);
+    return test::run_command(fmt::format("fit {} --scene {} --out {}/o {}", data, base.string(), d.path().string(), args));
   };
   for (const auto& [args, needle] : std::vector<std::pair<std::string, std::string>>{
            {"--param nonsense", "unknown parameter \"nonsense\""},

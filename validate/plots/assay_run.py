@@ -1,7 +1,6 @@
 """axonguide assay DIR: R(theta) (polar) and the turning-angle histogram -> DIR/assay.png."""
 import csv
 import math
-import os
 import sys
 from pathlib import Path
 
@@ -9,6 +8,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from whole_file import savefig_whole  # noqa: E402
 
 d = Path(sys.argv[1])
 prof = list(csv.DictReader(open(d / "assay_profile.csv")))
@@ -29,11 +29,4 @@ ax2.set_xlabel("turning angle (°, + toward the gradient)")
 ax2.set_ylabel("axons")
 ax2.set_title("mean %s°" % metrics["mean_turning_deg"]["value"][:6], fontsize=9)
 fig.tight_layout()
-# A temporary name, then a rename: the picture is whole under its name, or not there.
-tmp = d / ".assay.png.tmp-{}".format(os.getpid())
-try:
-    fig.savefig(tmp, dpi=110, format="png")
-    os.replace(tmp, d / "assay.png")
-finally:
-    if tmp.exists():
-        tmp.unlink()
+savefig_whole(fig, d / "assay.png", dpi=110)

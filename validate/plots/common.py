@@ -4,6 +4,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from whole_file import savefig_whole  # noqa: E402
 
 plt.rcParams.update({"figure.dpi": 100, "font.size": 9, "axes.grid": True, "grid.alpha": 0.3})
 
@@ -15,4 +16,4 @@ def read_csv(path):
 
 def save(fig, path):
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    savefig_whole(fig, path, dpi=100)

@@ -3,7 +3,6 @@ outgrowth), one colour per steepness -> DIR/fit.png. Points are drawn at the mod
 (corrected) concentration."""
 import csv
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -11,6 +10,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from whole_file import savefig_whole  # noqa: E402
 
 d = Path(sys.argv[1])
 pts = list(csv.DictReader(open(d / "fit_points.csv")))
@@ -41,11 +41,4 @@ for ax, m in zip(axes[0], measures):
 best = ", ".join("%s %.3g" % (k, v["best"]) for k, v in fit["parameters"].items())
 fig.suptitle("%s; chi2/dof %.2f (x: unreachable)" % (best, fit["chi2_per_dof"]), fontsize=9)
 fig.tight_layout()
-# A temporary name, then a rename: the picture is whole under its name, or not there.
-tmp = d / ".fit.png.tmp-{}".format(os.getpid())
-try:
-    fig.savefig(tmp, dpi=110, format="png")
-    os.replace(tmp, d / "fit.png")
-finally:
-    if tmp.exists():
-        tmp.unlink()
+savefig_whole(fig, d / "fit.png", dpi=110)

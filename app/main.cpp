@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <optional>
 #include <string>
 
+#include "axonguide/csv.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/resources.hpp"
 #include "axonguide/version.hpp"
@@ -23,13 +25,8 @@ int dispatch(int argc, char** argv) {
   // them all. A real-valued option is a finite number first.
   const CLI::Validator finite(
       [](std::string& text) {
-        try {
-          std::size_t used = 0;
-          const double v = std::stod(text, &used);
-          if (used == text.size() && std::isfinite(v)) return std::string();
-        } catch (const std::exception&) {
-        }
-        return std::string("must be a finite number");
+        const std::optional<double> v = axg::parse_number(text);
+        return v && std::isfinite(*v) ? std::string() : std::string("must be a finite number");
       },
       "FINITE");
   CLI::App app{"axonguide: deterministic simulation of axon growth and guidance through diffusing cues"};

@@ -333,6 +333,7 @@ void together(Ranks* ranks, Fn&& fn) {
   }
   if (exit_code_of(error) == code) std::rethrow_exception(error);
   report_error(error);
+  std::fprintf(stderr, "axonguide: error: another rank could not start the run either (exit %d)\n", code);
   throw QuietExit{code};
 }
 

@@ -10,7 +10,6 @@
 #include "axonguide/cell_grid.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/distributed/fields.hpp"
-#include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/growth_setup.hpp"
 #include "axonguide/placement.hpp"
 
@@ -143,9 +142,7 @@ class DecomposedEngine final : public Engine {
     }
     stats_.connected = in.connected;
     stats_.exited = in.exited;
-    // A field state that does not fit the scene is found alike on every rank (they read the
-    // same checkpoint): the ranks end together, rank 0 saying why.
-    if (field_) on_every_rank([&] { field_->load(in); });
+    if (field_) field_->load(in);
   }
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {

@@ -25,6 +25,7 @@
 #include "axonguide/core/stencil.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/distributed/fields.hpp"
+#include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/lod.hpp"
 
@@ -131,12 +132,15 @@ class DecomposedGridField final : public CueField {
     }
   }
 
-  // Every rank reads the whole checkpoint and keeps its slab (ghost planes included).
+  // Every rank reads the whole checkpoint and keeps its slab (ghost planes included). A grid
+  // of another size is found alike on every rank: the ranks end together.
   void load(const EngineState& in) override {
     const std::size_t nodes = geometry_.nodes();
-    if (in.grid.size() != cues_.size() * nodes)
-      throw std::runtime_error("checkpoint: the grid has " + std::to_string(in.grid.size()) + " values, the scene needs " +
-                               std::to_string(cues_.size() * nodes));
+    on_every_rank([&] {
+      if (in.grid.size() != cues_.size() * nodes)
+        throw RunError("checkpoint: the grid has " + std::to_string(in.grid.size()) + " values, the scene needs " +
+                       std::to_string(cues_.size() * nodes));
+    });
     for (std::size_t k = 0; k < cues_.size(); ++k)
       std::copy_n(in.grid.data() + k * nodes + static_cast<std::size_t>(g0_) * plane_, slab_,
                   buffer_[0].data() + k * slab_);

@@ -35,17 +35,15 @@ int as_int(std::size_t n, const char* what) {
 }
 
 // Messages go as pieces of at most 1 GiB (an int counts at most 2^31 - 1 bytes).
-// AXG_TEST_MPI_CHUNK=N makes the pieces N bytes, so that the tests take the pieced path
-// with small runs (tests/distributed/check_mpi_run.sh).
-std::size_t chunk_bytes() {
-  static const std::size_t bytes = [] {
-    const std::size_t most = std::size_t{1} << 30;
-    const char* e = std::getenv("AXG_TEST_MPI_CHUNK");
-    if (!e || !*e) return most;
-    const long long v = std::atoll(e);
-    return v >= 1 && static_cast<std::size_t>(v) <= most ? static_cast<std::size_t>(v) : most;
-  }();
-  return bytes;
+// AXG_TEST_MPI_CHUNK=N makes this rank ask for pieces of N bytes, so that the tests take the
+// pieced path with small runs (tests/distributed/check_mpi_run.sh); the ranks agree on the
+// smallest asked for (MpiComm's constructor), since both ends of a message must cut alike.
+std::uint64_t chunk_asked() {
+  const std::uint64_t most = std::uint64_t{1} << 30;
+  const char* e = std::getenv("AXG_TEST_MPI_CHUNK");
+  if (!e || !*e) return most;
+  const long long v = std::atoll(e);
+  return v >= 1 && static_cast<std::uint64_t>(v) <= most ? static_cast<std::uint64_t>(v) : most;
 }
 constexpr int kGatherTag = 71;
 constexpr int kExchangeTag = 72;
@@ -57,6 +55,9 @@ class MpiComm final : public Comm {
     MPI_Comm_set_errhandler(comm_, MPI_ERRORS_RETURN);
     MPI_Comm_rank(comm_, &rank_);
     MPI_Comm_size(comm_, &size_);
+    std::uint64_t chunk = chunk_asked();
+    check(MPI_Allreduce(MPI_IN_PLACE, &chunk, 1, MPI_UINT64_T, MPI_MIN, comm_), "MPI_Allreduce");
+    chunk_ = static_cast<std::size_t>(chunk);
   }
   ~MpiComm() override {
     MPI_Comm_free(&comm_);
@@ -99,11 +100,11 @@ class MpiComm final : public Comm {
   // One message to each peer and one from each, sizes carried by the messages themselves
   // (matched probes), received straight into `in`: a round trip, not the two collectives
   // (counts, then payloads) and the staging copies of a neighbourhood all-to-all. A message
-  // of a piece's size or more (chunk_bytes) goes as pieces, the last one shorter (empty when
+  // of a piece's size or more (chunk_) goes as pieces, the last one shorter (empty when
   // the size is a multiple): MPI keeps the order of messages between two ranks on one tag,
   // and a piece shorter than a whole one ends the message.
   void exchange_into(const std::vector<Bytes>& out, std::vector<Bytes>& in) override {
-    const std::size_t n = peers_.size(), chunk = chunk_bytes();
+    const std::size_t n = peers_.size(), chunk = chunk_;
     requests_.clear();
     for (std::size_t k = 0; k < n; ++k) {
       std::size_t at = 0;
@@ -136,7 +137,7 @@ class MpiComm final : public Comm {
   }
 
   std::vector<Bytes> gather(Bytes mine) override {
-    const std::size_t chunk = chunk_bytes();
+    const std::size_t chunk = chunk_;
     std::vector<Bytes> all;
     if (rank_ != 0) {
       std::uint64_t n = mine.size();
@@ -173,6 +174,7 @@ class MpiComm final : public Comm {
   int rank_ = 0, size_ = 1;
   std::vector<int> peers_;
   std::vector<MPI_Request> requests_;  // the exchange's sends, kept from call to call
+  std::size_t chunk_ = std::size_t{1} << 30;  // the pieces' size, agreed by every rank
 };
 
 }  // namespace

@@ -21,6 +21,7 @@
 #include "axonguide/core/particles.hpp"
 #include "axonguide/cue_setup.hpp"
 #include "axonguide/distributed/fields.hpp"
+#include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/particle_stages.hpp"
 
@@ -187,9 +188,17 @@ class DecomposedParticleField final : public CueField {
     out.grid = estimate_;
   }
 
-  // Every rank reads the whole checkpoint and keeps the particles in its block.
+  // Every rank reads the whole checkpoint and keeps the particles in its block. A state that
+  // does not fit the scene is found alike on every rank (they read the same checkpoint): the
+  // ranks end together, rank 0 saying why. (Copying it, one rank may run out of memory
+  // alone: that error ends the job.)
   void load(const EngineState& in) override {
-    check_checkpoint_particles(in, cues_.size(), ballistic_);
+    on_every_rank([&] {
+      check_checkpoint_particles(in, cues_.size(), ballistic_);
+      if (use_estimate_ && in.grid.size() != estimate_.size())
+        throw RunError("checkpoint: the particle estimate has " + std::to_string(in.grid.size()) +
+                       " values, the scene needs " + std::to_string(estimate_.size()));
+    });
     next_id_ = in.next_particle_id;
     pos_.clear(), vel_.clear(), id_.clear(), source_.clear();
     for (std::size_t i = 0; i < in.particle_pos.size(); ++i) {
@@ -199,12 +208,7 @@ class DecomposedParticleField final : public CueField {
       id_.push_back(in.particle_id[i]);
       source_.push_back(in.particle_cue[i]);
     }
-    if (use_estimate_) {
-      if (in.grid.size() != estimate_.size())
-        throw std::runtime_error("checkpoint: the particle estimate has " + std::to_string(in.grid.size()) +
-                                 " values, the scene needs " + std::to_string(estimate_.size()));
-      estimate_ = in.grid;
-    }
+    if (use_estimate_) estimate_ = in.grid;
   }
 
   std::size_t bytes() const override {

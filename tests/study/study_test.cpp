@@ -216,7 +216,13 @@ TEST(sweep, BadSpecsNameTheKey) {
                "parameters[0].cases.a: the seed is swept");
   // What would run one value under two labels, or one run twice.
   expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "values": [3]}, {"key": "steps", "name": "b", "values": [4]}]})",
-               "key steps is set by two parameters, steps and b");
+               "key steps of parameter steps and key steps of parameter b set the same part of the scene");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"name": "e", "key": "cues.sources.*.emission", "values": [1]},
+                   {"name": "f", "key": "cues.sources.0.emission", "values": [2]}]})",
+               "key cues.sources.*.emission of parameter e and key cues.sources.0.emission of parameter f");
+  expect_error(R"({"scene": "midline.json", "parameters": [{"name": "c", "cases": {"a": {"cues.sources.0": {"kind": "repellent"}}}},
+                   {"name": "k", "key": "cues.sources.0.kind", "values": ["attractant"]}]})",
+               "set the same part of the scene");
   expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "name": "a", "values": [3]}, {"key": "dt", "name": "a", "values": [0.5]}]})",
                "two parameters are named a");
   expect_error(R"({"scene": "midline.json", "seeds": [4, 1, 4]})", "seeds: 4 is given twice");

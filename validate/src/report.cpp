@@ -93,8 +93,6 @@ void Report::skip(const std::string& name, const std::string& reason) {
   checks_.push_back({name, true, "SKIPPED", reason, "", true});
 }
 
-// The first Python that can import matplotlib: $AXG_PYTHON, Debian's /usr/bin/python3
-// (python3-matplotlib), then python3 on PATH. Empty when there is none.
 extern "C" char** environ;
 
 int run_program(const std::vector<std::string>& argv, const fs::path& log, const std::string* input) {
@@ -108,15 +106,16 @@ int run_program(const std::vector<std::string>& argv, const fs::path& log, const
   int sv[2] = {-1, -1};
   if (input && ::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) return -1;
   posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  if (input) posix_spawn_file_actions_adddup2(&fa, sv[1], 0);
-  else posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  if (!out.empty()) {
-    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  int rc = posix_spawn_file_actions_init(&fa);
+  if (rc == 0)
+    rc = input ? posix_spawn_file_actions_adddup2(&fa, sv[1], 0)
+               : posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  if (rc == 0 && !out.empty()) {
+    rc = posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (rc == 0) rc = posix_spawn_file_actions_adddup2(&fa, 1, 2);
   }
   pid_t pid = -1;
-  const int spawned = ::posix_spawnp(&pid, args[0], &fa, nullptr, args.data(), environ);
+  const int spawned = rc != 0 ? rc : ::posix_spawnp(&pid, args[0], &fa, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
   if (input) ::close(sv[1]);
   if (spawned != 0) {
@@ -134,10 +133,12 @@ int run_program(const std::vector<std::string>& argv, const fs::path& log, const
   }
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
+    if (errno != EINTR) return -1;  // ECHILD: someone else reaped it (SIGCHLD ignored); nothing is left
   return status;
 }
 
+// The first Python that can import matplotlib: $AXG_PYTHON, Debian's /usr/bin/python3
+// (python3-matplotlib), then python3 on PATH. Empty when there is none.
 const std::string& plotting_python() {
   static const std::string found = [] {
     std::vector<std::string> candidates;
@@ -162,7 +163,9 @@ void Report::plot(const std::string& script, const std::vector<std::string>& csv
   for (const auto& c : csv_names) argv.push_back((dir_ / c).string());
   argv.push_back((dir_ / png_name).string());
   const int rc = run_program(argv, dir_ / (png_name + ".log"));
-  if (rc == 0 && fs::exists(dir_ / png_name)) {
+  if (rc == -1) {
+    body_ += fmt::format("*(plot {} not made: {} could not be started)*\n\n", png_name, plotting_python());
+  } else if (rc == 0 && fs::exists(dir_ / png_name)) {
     std::error_code ec;
     fs::remove(dir_ / (png_name + ".log"), ec);
     body_ += fmt::format("![{}]({})\n\n*{}*\n\n", caption, png_name, caption);

@@ -1,9 +1,22 @@
 #pragma once
-// Splitting one line of the CSV files the study commands read (neurons.csv, fit data).
+// Splitting one line of the CSV files the study commands read (neurons.csv, fit data), and
+// reading a number from one cell.
+#include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace axg {
+
+// The whole of `text` as a number (strtod's syntax, nothing after it), or nothing. Not
+// std::stod: it throws on a subnormal (ERANGE), which is a number.
+inline std::optional<double> parse_number(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size()) return std::nullopt;
+  return v;
+}
 
 // s without leading and trailing spaces, tabs and CRs.
 inline std::string trim_cell(const std::string& s) {

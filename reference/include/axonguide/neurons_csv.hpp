@@ -12,9 +12,6 @@
 
 namespace axg {
 
-// The whole of `text` as a number (std::stod's syntax, nothing after it), or nothing.
-std::optional<double> parse_number(const std::string& text);
-
 // One row per neuron, in id order.
 struct NeuronRows {
   std::vector<core::Vec3> soma, tip;

@@ -13,18 +13,6 @@
 
 namespace axg {
 
-std::optional<double> parse_number(const std::string& text) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  if (used != text.size() || text.empty()) return std::nullopt;
-  return v;
-}
-
 NeuronRows read_neurons_csv(const std::string& text, const std::string& where, std::optional<std::size_t> expected) {
   NeuronRows out;
   std::istringstream lines(text);

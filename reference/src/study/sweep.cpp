@@ -87,6 +87,14 @@ void set_path(json& j, const std::vector<std::string>& parts, std::size_t at, co
   set_path(j[p], parts, at + 1, value, key);
 }
 
+// Whether two key paths reach one part of a scene: one is the other or lies inside it, "*"
+// standing for any index.
+bool paths_overlap(const std::vector<std::string>& a, const std::vector<std::string>& b) {
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
+    if (a[i] != b[i] && a[i] != "*" && b[i] != "*") return false;
+  return true;
+}
+
 std::vector<json> read_values(const json& v, const std::string& origin, const std::string& path) {
   std::vector<json> out;
   if (v.contains("values")) {
@@ -237,18 +245,22 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
       par.values = read_values(p, origin, path);
       s.parameters.push_back(std::move(par));
     }
-    // One parameter per scene key, and one column per name: a key set by two parameters
-    // would run one value under two labels.
-    std::map<std::string, std::string> setter;
+    // One parameter per part of the scene, and one column per name: a key that two
+    // parameters set (or one sets inside what another sets: cues.sources.0 and
+    // cues.sources.*.kd) would run one value under two labels.
     std::set<std::string> names;
+    std::vector<std::pair<std::string, std::string>> set_by;  // (key, parameter)
     for (const Parameter& par : s.parameters) {
       if (!names.insert(par.name).second) bad(origin, fmt::format("two parameters are named {}", par.name));
       std::set<std::string> keys(par.keys.begin(), par.keys.end());
       for (const json& c : par.cases)
         for (auto kv = c.begin(); kv != c.end(); ++kv) keys.insert(kv.key());
       for (const std::string& key : keys)
-        if (const auto [it, fresh] = setter.emplace(key, par.name); !fresh)
-          bad(origin, fmt::format("key {} is set by two parameters, {} and {}", key, it->second, par.name));
+        for (const auto& [other, by] : set_by)
+          if (by != par.name && paths_overlap(split_path(key), split_path(other)))
+            bad(origin, fmt::format("key {} of parameter {} and key {} of parameter {} set the same part of the scene",
+                                    other, by, key, par.name));
+      for (const std::string& key : keys) set_by.emplace_back(key, par.name);
     }
     if (s.zip)
       for (const auto& par : s.parameters)

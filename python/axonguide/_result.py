@@ -9,7 +9,7 @@ from functools import cached_property
 import numpy as np
 
 from . import _core
-from ._errors import InputError
+from ._errors import InputError, check_flag, check_path
 from ._scene import Scene, _check_seed, as_scene
 
 STATUS_NAMES = tuple(_core.STATUS_NAMES)
@@ -187,8 +187,9 @@ class Result:
         creation time). A folder holding a run is refused (InputError) unless force, which
         replaces exactly the files its manifest lists; a complete run replaced is put back if
         the write fails. Returns the folder as a pathlib.Path."""
-        path = pathlib.Path(os.fspath(dir))
-        out = self._h.write(str(path), bool(force))
+        b = check_path(dir, "write(dir)")
+        path = pathlib.Path(os.fsdecode(b))
+        out = self._h.write(b, check_flag(force, "force"))
         for name in out["foreign"]:
             if name.endswith((".csv", ".graphml", ".pvd", ".vtp", ".swc", ".h5", ".json")) or name == "view.html" \
                     or name.startswith(("assay", "plot")):
@@ -217,4 +218,4 @@ def assay_metrics(result):
 
 def verify(dir):
     """`axonguide verify DIR`: whole (bool), status, problems, notes."""
-    return _core.verify(os.fspath(dir))
+    return _core.verify(check_path(dir, "verify(dir)"))

@@ -2,11 +2,13 @@
 
 import errno
 import json
+import math
 import os
 import warnings
 from collections.abc import Mapping
 
 from . import _core
+from ._errors import InputError, SceneError, check_int, check_path
 
 
 class SceneWarning(UserWarning):
@@ -22,18 +24,36 @@ def _json_default(value):
     raise TypeError(f"{type(value).__name__} is not a JSON value")
 
 
-def dumps(value):
-    """JSON text of a dict (floats in their shortest round-trip form, as Python prints them)."""
-    return json.dumps(value, default=_json_default)
+def _non_finite(value, path=""):
+    # The key path of the first NaN or infinity in a dict or list, or None.
+    if isinstance(value, float) and not math.isfinite(value):
+        return path or "the value"
+    items = value.items() if isinstance(value, Mapping) else enumerate(value) if isinstance(value, (list, tuple)) else ()
+    for k, v in items:
+        found = _non_finite(v, f"{path}[{k}]" if isinstance(k, int) else (f"{path}.{k}" if path else str(k)))
+        if found:
+            return found
+    return None
+
+
+def dumps(value, error=InputError):
+    """JSON text of a dict (floats in their shortest round-trip form, as Python prints them).
+    JSON has no NaN or infinity: one is `error` naming its key path."""
+    try:
+        return json.dumps(value, default=_json_default, allow_nan=False)
+    except ValueError:
+        path = _non_finite(value)
+        if path is None:
+            raise
+        raise error(f"{path}: not a finite number (JSON has no NaN or infinity)", key=path) from None
 
 
 def _check_file(path):
-    path = os.fspath(path)
-    if isinstance(path, bytes):
-        path = os.fsdecode(path)
-    if not os.path.exists(path):
-        raise FileNotFoundError(errno.ENOENT, "no such scene file", path)
-    return path
+    # Bytes in the file system's encoding: any name it holds reaches the core as it is.
+    b = check_path(path, "scene file")
+    if not os.path.exists(b):
+        raise FileNotFoundError(errno.ENOENT, "no such scene file", os.fsdecode(b))
+    return b
 
 
 def _looks_like_json(text):
@@ -60,7 +80,7 @@ class Scene:
         elif isinstance(source, _core.SceneHandle):
             h = source
         elif isinstance(source, Mapping):
-            h = _core.scene_from_text(dumps(dict(source)), "<dict>")
+            h = _core.scene_from_text(dumps(dict(source), SceneError), "<dict>")
         elif isinstance(source, str) and _looks_like_json(source):
             h = _core.scene_from_text(source, "<string>")
         elif isinstance(source, (str, bytes, os.PathLike)):
@@ -87,7 +107,7 @@ class Scene:
 
     @classmethod
     def from_dict(cls, d):
-        return cls(_core.scene_from_text(dumps(dict(d)), "<dict>"))._warn()
+        return cls(_core.scene_from_text(dumps(dict(d), SceneError), "<dict>"))._warn()
 
     def _warn(self):
         for w in self._h.warnings:
@@ -97,7 +117,7 @@ class Scene:
     def to_json(self, indent=2):
         """The canonical form (every key, defaults filled in, keys sorted, sources in canonical
         order): with indent=2 the text `axonguide scene check` prints; None: one line."""
-        return self._h.canonical_json(-1 if indent is None else int(indent))
+        return self._h.canonical_json(-1 if indent is None else check_int(indent, "to_json(indent)", 0, 32))
 
     def to_dict(self):
         return json.loads(self._h.canonical_json(-1))

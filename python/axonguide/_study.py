@@ -9,7 +9,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from . import _core
-from ._errors import InputError
+from ._errors import InputError, check_flag, check_int, check_number, check_path
 from ._result import check_backend, check_threads
 from ._scene import Scene, as_scene, dumps
 
@@ -39,15 +39,15 @@ class SweepSpec:
         if isinstance(source, SweepSpec):
             self._h = source._h
             return
-        folder = os.fspath(folder) if folder is not None else os.getcwd()
+        folder = check_path(folder, "SweepSpec(folder)") if folder is not None else os.fsencode(os.getcwd())
         if isinstance(source, Mapping):
             self._h = _core.sweep_spec_from_text(dumps(dict(source)), "<dict>", folder)
         elif isinstance(source, str) and source.lstrip().startswith("{"):
             self._h = _core.sweep_spec_from_text(source, "<string>", folder)
-        elif isinstance(source, (str, os.PathLike)):
-            path = os.fspath(source)
+        elif isinstance(source, (str, bytes, os.PathLike)):
+            path = check_path(source, "sweep file")
             if not os.path.exists(path):
-                raise FileNotFoundError(2, "no such sweep file", path)
+                raise FileNotFoundError(2, "no such sweep file", os.fsdecode(path))
             self._h = _core.sweep_spec_from_file(path)
         else:
             raise TypeError(f"SweepSpec(): a path, a dict or JSON text, not {type(source).__name__}")
@@ -116,10 +116,13 @@ def sweep(spec, out=None, threads=None, backend="reference"):
     takes. With out, it is `axonguide sweep SPEC --out OUT` (sweep.csv, summary.csv,
     sweep.json, members/: the same bytes; members already recorded and verified there are
     reused); without, the members run in memory and nothing is written. The GIL is released
-    while the members run; the records do not depend on the thread count."""
+    while the members run; the records do not depend on the thread count. Ctrl-C stops every
+    member at the end of its current step and raises KeyboardInterrupt; the records already
+    written to out are kept, and the same call later reuses them."""
     s = spec if isinstance(spec, SweepSpec) else SweepSpec(spec)
-    out_path = None if out is None else pathlib.Path(os.fspath(out))
-    d = _core.sweep(s._h, None if out_path is None else str(out_path), check_threads(threads), check_backend(backend))
+    out_bytes = None if out is None else check_path(out, "sweep(out)")
+    out_path = None if out is None else pathlib.Path(os.fsdecode(out_bytes))
+    d = _core.sweep(s._h, out_bytes, check_threads(threads), check_backend(backend))
     return SweepResult(s, d, out_path)
 
 
@@ -148,11 +151,11 @@ def _data_text(data):
     # (concentration, steepness, bias, se, count) tuples): the CSV the command line reads.
     # A dict's keys (or the first dict row's) are the header: any columns `fit` reads
     # (concentration, steepness, count, bias and/or outgrowth, se or bias_se/outgrowth_se).
-    if isinstance(data, (str, os.PathLike)):
-        path = os.fspath(data)
+    if isinstance(data, (str, bytes, os.PathLike)):
+        path = check_path(data, "fit(data)")
         if not os.path.exists(path):
-            raise FileNotFoundError(2, "no such data file", path)
-        with open(path, "r", encoding="utf-8", errors="surrogateescape") as f:
+            raise FileNotFoundError(2, "no such data file", os.fsdecode(path))
+        with open(path, "rb") as f:  # the bytes, as the command line reads them
             return f.read(), path
     if isinstance(data, Mapping):
         header = [str(c) for c in data]
@@ -190,10 +193,10 @@ def _base_text(base):
         return dumps(dict(base)), "<dict>"
     if isinstance(base, str) and base.lstrip().startswith("{"):
         return base, "<string>"
-    if isinstance(base, (str, os.PathLike)):
-        path = os.fspath(base)
+    if isinstance(base, (str, bytes, os.PathLike)):
+        path = check_path(base, "fit(base_scene)")
         as_scene(path)  # FileNotFoundError, SceneError
-        with open(path, "r", encoding="utf-8", errors="surrogateescape") as f:
+        with open(path, "rb") as f:
             return f.read(), path
     raise TypeError(f"fit(): the base scene is a Scene, dict, JSON text or path, not {type(base).__name__}")
 
@@ -209,20 +212,38 @@ def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0
     mirror, target_se, max_seeds, bias_metric: --no-mirror, --target-se, --max-seeds,
     --bias-metric; polish: --polish (Gauss-Newton steps from the grid's best); params: names or (name, lo, hi) tuples (--param); corrections: a dict
     {steepness: factor} (--correct).
-    Returns a FitResult. The GIL is released while the model runs."""
+    Returns a FitResult. The GIL is released while the model runs; Ctrl-C stops it at the end
+    of the runs' current steps and raises KeyboardInterrupt."""
     base, origin = _base_text(base_scene)
     text, data_origin = _data_text(data)
     if isinstance(seeds, numbers.Integral) and not isinstance(seeds, bool):
-        if not 1 <= seeds <= 1000:
-            raise InputError(f"fit: seeds = {seeds}: must be a count in [1, 1000] or a list of seeds")
-        seed_list = list(range(1, int(seeds) + 1))
+        seed_list = list(range(1, check_int(seeds, "fit: seeds", 1, 1000) + 1))
+    elif isinstance(seeds, (str, bytes, Mapping)) or not hasattr(seeds, "__iter__"):
+        raise InputError(f"fit: seeds = {seeds!r}: must be a count in [1, 1000] or a list of seeds")
     else:
-        seed_list = [int(s) for s in seeds]
-    d = _core.fit(base, origin, text, data_origin, check_threads(threads), seed_list, bool(scale), float(gain_min),
-                  float(gain_max), float(kd_min or 0.0), float(kd_max or 0.0), int(grid), int(refine),
-                  check_backend(backend), bool(mirror), float(target_se), int(max_seeds),
-                  [(p, 0.0, 0.0) if isinstance(p, str) else (str(p[0]), float(p[1]), float(p[2])) for p in (params or [])],
-                  [(float(s), float(f)) for s, f in (corrections or {}).items()], str(bias_metric), int(polish))
+        seed_list = [check_int(s, "fit: a seed", 0, 2**64 - 1) for s in seeds]
+    param_list = []
+    for p in params or []:
+        if isinstance(p, str):
+            param_list.append((p, 0.0, 0.0))
+        elif isinstance(p, (tuple, list)) and len(p) == 3 and isinstance(p[0], str):
+            param_list.append((p[0], check_number(p[1], f"fit: {p[0]} lo"), check_number(p[2], f"fit: {p[0]} hi")))
+        else:
+            raise InputError(f"fit: params: {p!r} is not a name or a (name, lo, hi) tuple")
+    if corrections is not None and not isinstance(corrections, Mapping):
+        raise InputError(f"fit: corrections = {corrections!r}: must be a dict {{steepness: factor}}")
+    correction_list = [(check_number(s, "fit: a correction's steepness"), check_number(f, "fit: a correction's factor"))
+                       for s, f in (corrections or {}).items()]
+    if bias_metric not in ("", "bias", "outgrowth_bias", "guidance_ratio"):
+        raise InputError(f"fit: bias_metric = {bias_metric!r}: must be bias, outgrowth_bias or guidance_ratio")
+    d = _core.fit(base, origin, text, data_origin, check_threads(threads), seed_list, check_flag(scale, "fit: scale"),
+                  check_number(gain_min, "fit: gain_min"), check_number(gain_max, "fit: gain_max"),
+                  0.0 if kd_min is None else check_number(kd_min, "fit: kd_min"),
+                  0.0 if kd_max is None else check_number(kd_max, "fit: kd_max"),
+                  check_int(grid, "fit: grid", 2, 50), check_int(refine, "fit: refine", 0, 10), check_backend(backend),
+                  check_flag(mirror, "fit: mirror"), check_number(target_se, "fit: target_se"),
+                  check_int(max_seeds, "fit: max_seeds", 1, 1000), param_list, correction_list, bias_metric,
+                  check_int(polish, "fit: polish", 0, 20))
     d["evaluations"] = dict(d["evaluations"])
     d["data"] = dict(d["data"])
     return FitResult(d)

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -55,7 +56,7 @@ py::object none_if_empty(const std::string& s) { return s.empty() ? py::object(p
 void raise_python(const char* name, const std::string& message, py::object key = py::none(),
                   py::object value = py::none(), py::object allowed = py::none()) {
   py::object cls = py::module_::import("axonguide._errors").attr(name);
-  py::object exc = cls(message, key, value, allowed);
+  py::object exc = cls(fs_text(message), key, value, allowed);
   PyErr_SetObject(cls.ptr(), exc.ptr());
 }
 
@@ -98,8 +99,7 @@ std::shared_ptr<RunHandle> run(const SceneHandle& sh, int threads, const std::st
   const int n = checked_threads(threads);
   check_memory_estimate(estimate_run_bytes(scene), fmt::format("a run of {} neurons", scene.neurons.count));
   auto poll = std::make_shared<SignalPoll>();
-  poll->main_thread = py::module_::import("threading").attr("current_thread")().is(
-      py::module_::import("threading").attr("main_thread")());
+  poll->main_thread = on_python_main_thread();
   options.stop_requested = [poll] { return poll->poll(); };
   auto h = std::make_shared<RunHandle>();
   h->warnings = sh.warnings;
@@ -252,7 +252,7 @@ py::dict write_folder(const RunHandle& h, const std::string& dir, bool force) {
   for (const auto& [name, hash] : info.files) files[py::str(name)] = hash;
   py::dict d;
   d["files"] = files;
-  d["foreign"] = foreign;
+  d["foreign"] = fs_texts(foreign);
   return d;
 }
 
@@ -260,9 +260,9 @@ py::dict verify(const std::string& dir) {
   const FolderCheck c = verify_run_folder(dir);
   py::dict d;
   d["whole"] = c.whole;
-  d["status"] = c.status;
-  d["problems"] = c.problems;
-  d["notes"] = c.notes;
+  d["status"] = fs_text(c.status);
+  d["problems"] = fs_texts(c.problems);
+  d["notes"] = fs_texts(c.notes);
   return d;
 }
 
@@ -343,6 +343,10 @@ PYBIND11_MODULE(_core, m) {
       raise_python("RunError", e.what());
     } catch (const Interrupted& e) {
       raise_python("RunError", fmt::format("interrupted after step {}", e.step));
+    } catch (const std::system_error& e) {
+      // std::filesystem's errors (a name too long, a folder that cannot be read): what the
+      // command line reports with exit 3.
+      raise_python("RunError", e.what());
     }
   });
 
@@ -353,7 +357,13 @@ PYBIND11_MODULE(_core, m) {
   m.attr("CUE_KIND_NAMES") = py::make_tuple("attractant", "repellent");
 
   py::class_<SceneHandle, std::shared_ptr<SceneHandle>>(m, "SceneHandle")
-      .def("canonical_json", [](const SceneHandle& s, int indent) { return scene_to_json(s.scene).dump(indent); },
+      .def("canonical_json",
+           [](const SceneHandle& s, int indent) {
+             // nlohmann's serializer reads past its indent buffer for a wide indent.
+             if (indent < -1 || indent > 32)
+               throw InputError(fmt::format("indent = {}: must be None or 0 to 32", indent));
+             return scene_to_json(s.scene).dump(indent);
+           },
            py::arg("indent") = -1)
       .def_readonly("warnings", &SceneHandle::warnings)
       .def_readonly("origin", &SceneHandle::origin)

@@ -130,10 +130,11 @@ py::dict sweep_run(const SpecHandle& h, std::optional<std::string> out, int thre
   options.backend = backend;
   std::vector<sweep::MemberResult> members;
   std::size_t failed = 0, skipped = 0;
-  {
-    py::gil_scoped_release release;
+  std::atomic<bool> stop{false};
+  options.run.stop_requested = [&stop] { return stop.load(); };
+  interruptible(stop, [&] {
     if (out) {
-      sweep::Outcome o = sweep::run(h.spec, *out, options);
+      sweep::Outcome o = sweep::run(h.spec, *out, options);  // the records written are kept: a re-run reuses them
       members = std::move(o.members);
       failed = o.failed;
       skipped = o.skipped;
@@ -141,7 +142,7 @@ py::dict sweep_run(const SpecHandle& h, std::optional<std::string> out, int thre
       members = sweep::run_in_memory({h.spec}, options.threads, options.run);
       for (const auto& r : members) failed += !r.ok;
     }
-  }
+  });
   py::dict d = sweep_tables(h.spec, members);
   d["failed"] = failed;
   d["reused"] = skipped;
@@ -189,17 +190,7 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
                  const std::vector<std::tuple<std::string, double, double>>& params,
                  const std::vector<std::pair<double, double>>& corrections, const std::string& bias_metric,
                  int polish) {
-  // The command line's limits (axonguide fit --seeds, --gain-min/max, --grid, --refine).
-  if (seeds.empty() || seeds.size() > 1000) throw InputError("fit: seeds must be a count in [1, 1000] or a list of 1 to 1000 seeds");
-  if (!(gain_lo > 0) || !(gain_hi > 0) || !(gain_lo < gain_hi))
-    throw InputError(fmt::format("fit: gain_min = {}, gain_max = {}: both must be > 0, gain_min below gain_max", gain_lo, gain_hi));
-  if (kd_lo < 0 || kd_hi < 0 || !std::isfinite(kd_lo) || !std::isfinite(kd_hi) || (kd_lo > 0 && kd_hi > 0 && !(kd_lo < kd_hi)))
-    throw InputError(fmt::format("fit: kd_min = {}, kd_max = {}: must be > 0 with kd_min below kd_max (0: from the data)", kd_lo, kd_hi));
-  if (grid < 2 || grid > 50) throw InputError(fmt::format("fit: grid = {}: must be 2 to 50", grid));
-  if (refine < 0 || refine > 10) throw InputError(fmt::format("fit: refine = {}: must be 0 to 10", refine));
-  if (!(target_se >= 0) || !(target_se <= 10)) throw InputError(fmt::format("fit: target_se = {}: must be 0 to 10", target_se));
-  if (polish < 0 || polish > 20) throw InputError(fmt::format("fit: polish = {}: must be 0 to 20", polish));
-  if (max_seeds < 1 || max_seeds > 1000) throw InputError(fmt::format("fit: max_seeds = {}: must be 1 to 1000", max_seeds));
+  // The options' limits are checked by fit::fit, for the command line and for this alike.
   scene_from_text(base_text, origin);  // SceneError for a bad base scene
   const json base = parse_json_strict(base_text, origin);
   const fit::Data data = fit::parse_data(data_text, data_origin);
@@ -221,11 +212,9 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
   o.corrections = corrections;
   o.bias_metric = bias_metric;
   o.run = run_options(backend);
-  fit::Result r;
-  {
-    py::gil_scoped_release release;
-    r = fit::fit(base, origin, data, o);
-  }
+  std::atomic<bool> stop{false};
+  o.run.stop_requested = [&stop] { return stop.load(); };
+  const fit::Result r = interruptible(stop, [&] { return fit::fit(base, origin, data, o); });
   const Scene scene = parse_scene(base_text, origin).scene;
   auto value_of = [&](const char* name, double otherwise) {
     for (std::size_t k = 0; k < r.parameters.size(); ++k)

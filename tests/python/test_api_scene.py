@@ -132,3 +132,14 @@ def test_argument_errors():
         axonguide.run({"neurons": {"count": 10}, "steps": 1}, seed=-3)
     assert issubclass(axonguide.RunError, RuntimeError)
     assert not issubclass(axonguide.RunError, ValueError)
+
+
+def test_a_nan_in_a_dict_is_named_and_wide_indents_are_refused():
+    with pytest.raises(axonguide.SceneError, match=r"cues.sources\[0\].position\[1\]: not a finite number") as e:
+        axonguide.Scene({"cues": {"sources": [{"kind": "attractant", "position": [0, float("inf"), 0]}]}})
+    assert e.value.key == "cues.sources[0].position[1]"
+    s = axonguide.Scene.default()
+    for indent in (33, 10**7, True, "2"):  # nlohmann's serializer read past its buffer for a wide indent
+        with pytest.raises(axonguide.InputError, match="indent"):
+            s.to_json(indent)
+    assert s.to_json(0) and s.to_json(32)

@@ -3,6 +3,10 @@
 import hashlib
 import json
 import math
+import os
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -151,6 +155,36 @@ def test_fit_refuses_bad_data_and_options(tmp_path):
         axonguide.fit({"neurons": {"count": 10}}, DATA, seeds=1, grid=2, refine=0)
     with pytest.raises(axonguide.SceneError):
         axonguide.fit({"neurons": {"count": -1}}, DATA)
+    # Arguments of the wrong type or value: InputError naming them, never cut or coerced.
+    for kw, message in ((dict(grid=2.9), "grid = 2.9"), (dict(seeds=True), "seeds = True"),
+                        (dict(seeds=[1, 1]), "seed 1 is given twice"), (dict(max_seeds=-1), "max_seeds = -1"),
+                        (dict(gain_min=math.nan), "gain_min = nan"), (dict(mirror="no"), "mirror = 'no'"),
+                        (dict(corrections=[1, 2]), "corrections"), (dict(params=[("gain",)]), "params"),
+                        (dict(bias_metric="x"), "bias_metric"), (dict(target_se=math.inf), "target_se")):
+        with pytest.raises(axonguide.InputError, match=message.replace("(", r"\(")):
+            axonguide.fit(base, DATA, **kw)
+
+
+def test_ctrl_c_stops_a_sweep_and_keeps_its_records(tmp_path):
+    scene = json.loads((SCENES / "assay-explant.json").read_text())
+    scene["neurons"]["populations"][0]["count"] = 20000
+    scene["steps"] = 600
+    spec = {"scene": scene, "parameters": [{"key": "cues.imposed.steepness", "values": [0.1, 0.2, 0.3, 0.4]}],
+            "seeds": 8}  # 32 members of about 0.15 s each on 2 threads
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    t0 = time.perf_counter()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            axonguide.sweep(spec, out=tmp_path / "s", threads=2)
+    finally:
+        timer.cancel()
+        timer.join()
+    assert time.perf_counter() - t0 < 3.0
+    kept = len(list((tmp_path / "s" / "members").glob("m*.json")))
+    assert kept < 32 and not (tmp_path / "s" / "sweep.csv").exists()
+    done = axonguide.sweep(spec, out=tmp_path / "s", threads=2)
+    assert done.reused == kept and done.failed == 0
 
 
 def test_fit_of_signalling_outgrowth_from_columns_equals_the_command(tmp_path):

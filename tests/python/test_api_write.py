@@ -1,6 +1,7 @@
 """Result.write gives the bytes of `axonguide run`, and owns its folder as the command does."""
 
 import json
+import os
 
 import pytest
 
@@ -71,3 +72,26 @@ def test_a_failed_write_takes_its_folder_back(folders, tmp_path):
     with pytest.raises(axonguide.InputError):
         r.write(blocker)  # not a directory
     assert blocker.read_text() == "x"
+
+
+def test_paths_and_flags_are_checked_and_any_name_is_kept(folders, tmp_path):
+    r, _, _ = folders
+    for bad, message in (("", "an empty path"), (str(tmp_path / "o\0x"), "NUL byte")):
+        with pytest.raises(axonguide.InputError, match=message):
+            r.write(bad)
+    assert not (tmp_path / "o").exists()
+    with pytest.raises(axonguide.InputError, match="force = 'no'"):
+        r.write(tmp_path / "f", force="no")
+    assert not (tmp_path / "f").exists()
+    # A name that is not UTF-8, beside the run: kept, and named (as Python names it).
+    out = tmp_path / "u"
+    out.mkdir()
+    with open(os.path.join(os.fsencode(out), b"notes\xff.csv"), "w") as f:
+        f.write("mine")
+    with pytest.warns(UserWarning, match="notes"):
+        r.write(out)
+    assert axonguide.verify(out)["whole"]
+    assert axonguide.verify(os.fsencode(tmp_path) + b"/\xff")["problems"]
+    # A name too long for the file system: RunError, as the command's exit 3.
+    with pytest.raises(axonguide.RunError):
+        r.write(tmp_path / ("x" * 300))

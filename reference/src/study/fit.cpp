@@ -390,6 +390,40 @@ double correction_factor(const Options& o, double steepness) {
   return f;
 }
 
+namespace {
+
+// The options' ranges, for every caller (the command line's checks, and the Python module's
+// arguments, which reach here unchecked).
+void check_options(const Options& o) {
+  auto bad = [](const std::string& what) { throw InputError("fit: " + what); };
+  if (o.coarse < 2 || o.coarse > 50) bad(fmt::format("grid = {}: must be 2 to 50 points per parameter", o.coarse));
+  if (o.refine_rounds < 0 || o.refine_rounds > 10) bad(fmt::format("refine = {}: must be 0 to 10", o.refine_rounds));
+  if (o.polish_iterations < 0 || o.polish_iterations > 20) bad(fmt::format("polish = {}: must be 0 to 20", o.polish_iterations));
+  if (!(o.target_se_ratio >= 0 && o.target_se_ratio <= 10))
+    bad(fmt::format("target_se = {}: must be a number from 0 (off) to 10", o.target_se_ratio));
+  if (o.max_seeds < 1 || o.max_seeds > 1000) bad(fmt::format("max_seeds = {}: must be 1 to 1000", o.max_seeds));
+  if (o.seeds.size() > 1000) bad(fmt::format("{} seeds: at most 1000", o.seeds.size()));
+  std::vector<std::uint64_t> sorted = o.seeds;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 1; k < sorted.size(); ++k)
+    if (sorted[k] == sorted[k - 1])
+      bad(fmt::format("seed {} is given twice (a repeated seed repeats its runs, and narrows the intervals)", sorted[k]));
+  if (sorted.back() > std::numeric_limits<std::uint64_t>::max() - o.max_seeds)
+    bad(fmt::format("seed {}: too large to add seeds after it (at most 2^64 - 1 - max_seeds)", sorted.back()));
+  if (!(o.gain_lo > 0 && o.gain_hi >= o.gain_lo && std::isfinite(o.gain_hi)))
+    bad(fmt::format("gain range {} to {}: both finite, > 0, the first not above the second", o.gain_lo, o.gain_hi));
+  if (!(o.kd_lo >= 0 && o.kd_hi >= 0 && std::isfinite(o.kd_lo) && std::isfinite(o.kd_hi)) ||
+      (o.kd_lo > 0 && o.kd_hi > 0 && !(o.kd_lo < o.kd_hi)))
+    bad(fmt::format("kd range {} to {}: finite and > 0, the first below the second (0: from the data)", o.kd_lo,
+                    o.kd_hi));
+  for (const auto& [steepness, factor] : o.corrections)
+    if (!(steepness >= 0 && std::isfinite(steepness) && factor > 0 && std::isfinite(factor)))
+      bad(fmt::format("correction {} = {}: the steepness must be finite and >= 0, the factor finite and > 0", steepness,
+                      factor));
+}
+
+}  // namespace
+
 Result fit(const json& base, const std::string& origin, const Data& data, const Options& o) {
   const Scene scene = parse_scene(base.dump(), origin).scene;
   const bool steers = scene.guidance.model == GuidanceModel::kSnr;
@@ -399,6 +433,7 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
         "axons.growth_model \"signalling\", cues.field \"imposed\", at least one source in cues.sources)",
         origin));
   if (o.seeds.empty()) throw InputError("fit: at least one seed is needed");
+  check_options(o);
   Result r;
   r.parameters = resolve_parameters(base, origin, data, o);
   r.bias_metric = !o.bias_metric.empty() ? o.bias_metric : (scene.signalling() ? "outgrowth_bias" : "bias");

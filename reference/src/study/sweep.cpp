@@ -389,6 +389,8 @@ MemberResult run_member(const Spec& spec, std::size_t member, const RunOptions& 
   } catch (const std::bad_alloc&) {
     r.exit_code = kExitCannotRun;
     r.message = "out of memory";
+  } catch (const Interrupted&) {
+    throw;  // a stop asked for (Ctrl-C from Python): not this member's failure
   } catch (const std::exception& e) {
     r.exit_code = kExitCannotRun;
     r.message = e.what();

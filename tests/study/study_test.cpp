@@ -226,6 +226,7 @@ TEST(sweep, BadSpecsNameTheKey) {
   expect_error(R"({"scene": "midline.json", "parameters": [{"key": "steps", "name": "a", "values": [3]}, {"key": "dt", "name": "a", "values": [0.5]}]})",
                "two parameters are named a");
   expect_error(R"({"scene": "midline.json", "seeds": [4, 1, 4]})", "seeds: 4 is given twice");
+  expect_error(R"({"scene": "midline.json\u0000.evil"})", "a NUL byte in a path");
   // 65536^4 members wrap a 64-bit count to 0; the product is bounded as it is taken.
   expect_error(R"({"scene": "midline.json", "parameters": [
                    {"key": "steps", "linear": {"from": 1, "to": 2, "count": 65536}},

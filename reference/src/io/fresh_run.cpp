@@ -69,7 +69,7 @@ OutputInfo write_run_folder(const RunResult& result, const fs::path& dir, bool f
   const bool made_dir = !fs::exists(dir);
   std::exception_ptr failure;
   OutputInfo info;
-  {
+  try {
     prepare_output_dir(dir);
     FolderLock lock(dir);
     const FolderClaim claim = claim_run_folder(dir, force);
@@ -80,9 +80,11 @@ OutputInfo write_run_folder(const RunResult& result, const fs::path& dir, bool f
       info = write_outputs(result, dir, backend, threads, warnings);
     } catch (...) {
       abandon_fresh_run(dir, result.scene);
-      failure = std::current_exception();
+      throw;
     }
-    if (!failure) discard_replaced_run(dir);  // the new run is whole
+    discard_replaced_run(dir);  // the new run is whole
+  } catch (...) {
+    failure = std::current_exception();  // the lock (its file) is gone from here on
   }
   if (failure) {
     // After the lock (its file) is gone, as `axonguide run` does.

@@ -172,6 +172,8 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
   if (!j.contains("scene")) bad(origin, "needs \"scene\": a scene file path or an inline scene object");
   const json& scene = j["scene"];
   if (scene.is_string()) {
+    if (scene.get<std::string>().find('\0') != std::string::npos)
+      bad(origin, "scene: a NUL byte in a path (it would cut the path short)");
     fs::path p = scene.get<std::string>();
     if (p.is_relative()) p = folder / p;
     // A scene file: duplicate keys and trailing bytes are refused as parse_scene refuses them.

@@ -7,11 +7,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "axonguide/csv.hpp"
 #include "axonguide/error.hpp"
 #include "axonguide/resources.hpp"
 #include "axonguide/json_input.hpp"
@@ -68,12 +70,30 @@ std::string b64(const std::vector<T>& v) {
 
 // A CSV file as a header index and rows of cells.
 struct Csv {
+  fs::path path;
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
   int col(const std::string& name) const {
     for (std::size_t k = 0; k < header.size(); ++k)
       if (header[k] == name) return static_cast<int>(k);
     return -1;
+  }
+  [[noreturn]] void refuse(std::size_t row, const std::string& why) const {
+    throw InputError(fmt::format("view: {}: line {}: {}: not a run's data", path.string(), row + 2, why));
+  }
+  // Cell (row, c) as a finite number; anything else is not a run's data.
+  double number(std::size_t row, int c) const {
+    const std::optional<double> v = parse_number(rows[row][static_cast<std::size_t>(c)]);
+    if (!v || !std::isfinite(*v))
+      refuse(row, fmt::format("\"{}\" is not a finite number", printable(rows[row][static_cast<std::size_t>(c)])));
+    return *v;
+  }
+  // Cell (row, c) as an integer in [lo, hi].
+  long long integer(std::size_t row, int c, long long lo, long long hi) const {
+    const double v = number(row, c);
+    if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi) && v == std::floor(v)))
+      refuse(row, fmt::format("{} is not an integer in [{}, {}]", v, lo, hi));
+    return static_cast<long long>(v);
   }
 };
 
@@ -87,12 +107,16 @@ std::vector<std::string> split(const std::string& line) {
 
 // False when the file is absent; InputError when a row has fewer cells than the header
 // (a truncated or hand-edited file).
-bool load_csv(const fs::path& p, Csv& out) {
+bool load_csv(const fs::path& p, Csv& out, std::size_t columns) {
   std::ifstream in(p);
   if (!in) return false;
+  out.path = p;
   std::string line;
   if (!std::getline(in, line)) return false;
   out.header = split(line);
+  if (out.header.size() < columns)
+    throw InputError(fmt::format("view: {}: a header of {} columns, where a run writes at least {}: not a run's data",
+                                 p.string(), out.header.size(), columns));
   for (std::size_t number = 2; std::getline(in, line); ++number) {
     if (line.empty()) continue;
     out.rows.push_back(split(line));
@@ -102,8 +126,6 @@ bool load_csv(const fs::path& p, Csv& out) {
   }
   return true;
 }
-
-double num(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
 
 // The viewer's files: the ones compiled into the command, or those in AXG_VIEWER_DIR (and
 // three.js in AXG_THREE_DIR) when set, for working on the page without rebuilding.
@@ -157,7 +179,10 @@ int cmd_view(const std::string& dir_name) {
   // Only a whole run, and only the files its manifest lists: never a stale file beside it.
   const json manifest = require_whole_run(dir, "view");
   auto listed = [&](const char* name) { return manifest["files"].contains(name); };
-  auto load_listed = [&](const char* name, Csv& out) { return listed(name) && load_csv(dir / name, out); };
+  // The columns a run writes in each file the viewer reads (the fewest it indexes).
+  auto load_listed = [&](const char* name, Csv& out, std::size_t columns) {
+    return listed(name) && load_csv(dir / name, out, columns);
+  };
   const ViewerFiles files = viewer_files();
 
   json meta;
@@ -197,15 +222,14 @@ int cmd_view(const std::string& dir_name) {
   data["length"] = b64(length);
   if (n == 0) throw InputError(fmt::format("view: {} holds a run of no neurons: nothing to draw", dir_name));
   if (!listed("connections.csv")) missing.push_back("connections.csv");
-  if (load_listed("bfs.csv", bfs)) {
+  if (load_listed("bfs.csv", bfs, 1)) {
     for (const char* col : {"level", "component"}) {
       const int c = bfs.col(col);
       if (c < 0) continue;
       std::vector<std::int32_t> v(n, -1);
-      for (const auto& r : bfs.rows) {
-        const auto id = static_cast<std::size_t>(num(r[0]));
-        if (id < n) v[id] = static_cast<std::int32_t>(num(r[c]));
-      }
+      for (std::size_t k = 0; k < bfs.rows.size(); ++k)
+        v[static_cast<std::size_t>(bfs.integer(k, 0, 0, static_cast<long long>(n) - 1))] =
+            static_cast<std::int32_t>(bfs.integer(k, c, -1, static_cast<long long>(n)));
       data[col] = b64(v);
     }
   } else {
@@ -225,7 +249,7 @@ int cmd_view(const std::string& dir_name) {
     seg_step.push_back(step_b);
     seg_owner.push_back(owner);
   };
-  if (load_listed("paths.csv", paths)) {
+  if (load_listed("paths.csv", paths, 5)) {
     const std::size_t stride = (paths.rows.size() + kMaxPathPoints - 1) / kMaxPathPoints;
     if (stride > 1)
       notes.push_back(fmt::format("paths thinned: {} points, every {}th step kept (and each axon's last)",
@@ -234,11 +258,11 @@ int cmd_view(const std::string& dir_name) {
     float prev_step = 0;
     long prev_id = -1;
     for (std::size_t k = 0; k < paths.rows.size(); ++k) {
-      const auto& r = paths.rows[k];
-      const long id = static_cast<long>(num(r[0]));
-      const auto step = static_cast<std::uint32_t>(num(r[1]));
-      const float p[3] = {static_cast<float>(num(r[2])), static_cast<float>(num(r[3])), static_cast<float>(num(r[4]))};
-      const bool last = k + 1 == paths.rows.size() || static_cast<long>(num(paths.rows[k + 1][0])) != id;
+      const long id = static_cast<long>(paths.integer(k, 0, 0, static_cast<long long>(n) - 1));
+      const auto step = static_cast<std::uint32_t>(paths.integer(k, 1, 0, 4294967295LL));
+      const float p[3] = {static_cast<float>(paths.number(k, 2)), static_cast<float>(paths.number(k, 3)),
+                          static_cast<float>(paths.number(k, 4))};
+      const bool last = k + 1 == paths.rows.size() || paths.rows[k + 1][0] != paths.rows[k][0];
       if (id != prev_id) {
         std::copy(p, p + 3, prev);
         prev_step = static_cast<float>(step);
@@ -258,12 +282,16 @@ int cmd_view(const std::string& dir_name) {
   data["paths"] = {{"points", b64(seg_pos)}, {"step", b64(seg_step)}, {"owner", b64(seg_owner)}};
 
   json src = json::array();
-  if (load_listed("sources.csv", sources))
-    for (const auto& r : sources.rows) src.push_back({{"kind", r[1]}, {"x", num(r[2])}, {"y", num(r[3])}, {"z", num(r[4])}});
+  if (load_listed("sources.csv", sources, 5))
+    for (std::size_t k = 0; k < sources.rows.size(); ++k)
+      src.push_back({{"kind", printable(sources.rows[k][1])},
+                     {"x", sources.number(k, 2)},
+                     {"y", sources.number(k, 3)},
+                     {"z", sources.number(k, 4)}});
   data["sources"] = src;
 
   json frames = json::array();
-  if (load_listed("particles.csv", particles)) {
+  if (load_listed("particles.csv", particles, 5)) {
     std::size_t start = 0;
     while (start < particles.rows.size()) {
       std::size_t end = start;
@@ -275,11 +303,10 @@ int cmd_view(const std::string& dir_name) {
       std::vector<float> pos;
       std::vector<std::uint8_t> cue;
       for (std::size_t k = start; k < end; k += stride) {
-        const auto& r = particles.rows[k];
-        for (int c = 2; c < 5; ++c) pos.push_back(static_cast<float>(num(r[c])));
-        cue.push_back(static_cast<std::uint8_t>(num(r[1])));
+        for (int c = 2; c < 5; ++c) pos.push_back(static_cast<float>(particles.number(k, c)));
+        cue.push_back(static_cast<std::uint8_t>(particles.integer(k, 1, 0, 255)));
       }
-      frames.push_back({{"step", num(step)}, {"pos", b64(pos)}, {"cue", b64(cue)}});
+      frames.push_back({{"step", particles.integer(start, 0, 0, 4294967295LL)}, {"pos", b64(pos)}, {"cue", b64(cue)}});
       start = end;
     }
   }

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <tuple>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -145,6 +146,24 @@ TEST(viewer, RefusesWhatIsNotARun) {
     v = view(run);
     EXPECT_EQ(v.code, 2) << row;
     EXPECT_NE(v.text.find(why), std::string::npos) << v.text;
+  }
+  std::ofstream(run / "neurons.csv", std::ios::binary) << original;
+  rehash(run, "neurons.csv");
+  // The other files it reads: too few columns (it read past the row, and crashed), and
+  // numbers no run writes.
+  for (const auto& [file, text, why] :
+       {std::tuple{"paths.csv", "id\n0\n0\n1\n", "a header of 1 columns"},
+        std::tuple{"paths.csv", "id,step,x,y,z\n0,0,0,0,0\n-3,1,0,0,0\n", "-3 is not an integer"},
+        std::tuple{"paths.csv", "id,step,x,y,z\n0,0,nan,0,0\n", "\"nan\" is not a finite number"},
+        std::tuple{"bfs.csv", "id,level,component\n1e300,0,0\n", "is not an integer"}}) {
+    const std::string before = test::read_file(run / file);
+    std::ofstream(run / file, std::ios::binary) << text;
+    rehash(run, file);
+    v = view(run);
+    EXPECT_EQ(v.code, 2) << file << ": " << v.text;
+    EXPECT_NE(v.text.find(why), std::string::npos) << file << ": " << v.text;
+    std::ofstream(run / file, std::ios::binary) << before;
+    rehash(run, file);
   }
 }
 

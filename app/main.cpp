@@ -80,7 +80,8 @@ int dispatch(int argc, char** argv) {
   val_cmd->add_flag("--quick", val.quick, "Smaller sizes (the CI run)");
   val_cmd->add_option("--threads", val.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   val_cmd->add_option("--points", val.points, "samplers: test this CSV point set (one point per row, d columns)");
-  val_cmd->add_option("--radius", val.radius, "samplers --points: ball radius for points that are not unit vectors")
+  auto* val_radius = val_cmd->add_option("--radius", val.radius,
+                                         "samplers --points: ball radius for points that are not unit vectors")
       ->check(finite)->check(CLI::PositiveNumber);
   val_cmd->add_flag("--allow-skip", val.allow_skip,
                     "Exit 0 when a check is skipped (it could not run here, e.g. gpu without a GPU); without it, 3");
@@ -88,10 +89,10 @@ int dispatch(int argc, char** argv) {
   GoldenArgs gold;
   auto* gold_cmd = app.add_subcommand("golden", "Golden networks: check them exactly, or regenerate them");
   gold_cmd->add_option("action", gold.action, "check or bless")->required()->check(CLI::IsMember({"check", "bless"}));
-  gold_cmd->add_option("--reason", gold.reason, "bless: why (appended to data/golden/CHANGELOG.md)");
+  auto* gold_reason = gold_cmd->add_option("--reason", gold.reason, "bless: why (appended to data/golden/CHANGELOG.md)");
   gold_cmd->add_option("--dir", gold.dir, "Golden directory (default: data/golden)");
-  gold_cmd->add_option("--only", gold.only, "bless: only this network");
-  gold_cmd->add_option("--backend", gold.backend, "check: reference or cuda")
+  auto* gold_only = gold_cmd->add_option("--only", gold.only, "bless: only this network");
+  auto* gold_backend = gold_cmd->add_option("--backend", gold.backend, "check: reference or cuda")
       ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();
   gold_cmd->add_option("--threads", gold.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
 
@@ -186,7 +187,11 @@ int dispatch(int argc, char** argv) {
   if (scene_default->parsed()) return cmd_scene_default();
   if (scene_check->parsed()) return cmd_scene_check(check_path);
   if (bench_cmd->parsed()) return cmd_bench(bench);
-  if (val_cmd->parsed()) return cmd_validate(val);
+  if (val_cmd->parsed()) {
+    if (val_radius->count() && val.points.empty())
+      throw axg::InputError("--radius: only with --points (the radius of the ball the points fill)");
+    return cmd_validate(val);
+  }
   if (view_cmd->parsed()) return cmd_view(view_dir);
   if (assay_cmd->parsed()) return cmd_assay(assay_dir);
   if (sweep_cmd->parsed()) return cmd_sweep(sweep);
@@ -198,6 +203,11 @@ int dispatch(int argc, char** argv) {
   if (gold_cmd->parsed()) {
     if (gold.action == "bless" && gold.reason.empty())
       throw axg::InputError("golden bless: --reason TEXT is required (it is appended to data/golden/CHANGELOG.md)");
+    // An option the action does not take is refused, not ignored.
+    if (gold.action == "bless" && gold_backend->count())
+      throw axg::InputError("golden bless --backend: blessing renders on the reference engine; check takes --backend");
+    if (gold.action == "check" && (gold_reason->count() || gold_only->count()))
+      throw axg::InputError("golden check: --reason and --only are bless's options");
     return cmd_golden(gold);
   }
   return axg::kExitBadInput;

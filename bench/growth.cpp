@@ -15,6 +15,7 @@
 #include <tbb/info.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
 #include "axonguide/placement.hpp"
 #include "axonguide/threads.hpp"
 #include "bench.hpp"
@@ -51,8 +52,8 @@ GrowthRun time_steps(const Scene& scene, const Placement& p, const EngineFactory
 
 // Runs `axonguide run SCENE --out DIR -q --threads T` as a child and reads its peak RSS.
 ChildRun run_child(const Scene& scene, int threads, const std::string& backend) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("axonguide-bench-{}", ::getpid());
-  fs::create_directories(dir);
+  const ScratchDir scratch("axonguide-bench");
+  const fs::path& dir = scratch.path();
   const fs::path scene_file = dir / "scene.json";
   std::ofstream(scene_file) << scene_to_json(scene).dump();
   std::vector<std::string> args{"axonguide", "run", scene_file.string(), "--out", (dir / "out").string(), "-q",
@@ -78,8 +79,6 @@ ChildRun run_child(const Scene& scene, int threads, const std::string& backend) 
   } catch (const std::exception&) {
     r.peak_bytes = static_cast<double>(ru.ru_maxrss) * 1024.0;
   }
-  std::error_code ec;
-  fs::remove_all(dir, ec);
   return r;
 }
 

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -117,6 +118,12 @@ TEST_P(CliBadInput, ExitsWithCodeAndMessage) {
   write(tmp, "modvector.json", R"({"axons": {"growth_modulation": 0.5}, "guidance": {"model": "vector_sum"}})");
   write(tmp, "bothlengths.json", R"({"axons": {"step_length": 0.35, "growth_speed": 1}})");
   write(tmp, "endlesssteps.json", R"({"steps": 1000000000, "guidance": {"model": "direct"}})");
+  {
+    std::string unit;  // 400 directions on the circle: a points file that passes
+    for (int k = 0; k < 400; ++k) unit += fmt::format("{},{}\n", std::cos(0.0157 * k), std::sin(0.0157 * k));
+    write(tmp, "circle.csv", unit);
+    std::filesystem::create_directories(tmp.path() / "blocked" / "samplers" / "report.md");  // a folder in its place
+  }
   std::string args = GetParam().args;
   for (std::size_t p; (p = args.find("{tmp}")) != std::string::npos;) args.replace(p, 5, tmp.path().string());
   const Result r = run(args, tmp);
@@ -155,7 +162,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"run --seed '' --out {tmp}/o", 2, "--seed : must be an unsigned 64-bit integer"},
         BadRun{"run --threads -1 --out {tmp}/o", 2, "--threads"},
         BadRun{"run --backend opencl --out {tmp}/o", 2, "--backend"},
-        BadRun{"frobnicate", 2, "unknown command 'frobnicate'"}),
+        BadRun{"frobnicate", 2, "unknown command 'frobnicate'"},
+        // Options an action does not take are refused, not ignored.
+        BadRun{"golden check --only analytic-snr", 2, "--reason and --only are bless's options"},
+        BadRun{"golden bless --reason x --backend cuda --dir {tmp}", 2, "blessing renders on the reference engine"},
+        BadRun{"validate samplers --radius 2 --report {tmp}/r", 2, "--radius: only with --points"},
+        // A report that could not be written is not a PASS (it printed PASS and exited 0).
+        BadRun{"validate samplers --points {tmp}/circle.csv --report {tmp}/blocked", 3, "report.md"}),
     [](const auto& info) { return std::to_string(info.index); });
 
 // The memory estimate respects an address-space limit (ulimit -v), and refuses before

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -86,6 +87,41 @@ TEST(golden, ANetworkThatDoesNotVerifyFails) {
   ASSERT_EQ(results.size(), 2u);
   EXPECT_FALSE(results[1].pass);
   EXPECT_NE(results[1].differences[0].find("provenance.json missing"), std::string::npos);
+}
+
+// Bless changes nothing unless it can change everything it was asked to: a file in
+// expected/ that provenance.json does not list (someone's notes), or another network without
+// its scene, is refused before any network is rendered; and its files are written whole.
+TEST(golden, BlessRefusesBeforeItChangesAnything) {
+  test::TempDir tmp;
+  const auto dir = copy_one(tmp, "analytic-snr");
+  const auto g = dir / "analytic-snr";
+  auto files = [&] {
+    std::map<std::string, std::string> h;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+      if (e.is_regular_file()) h[std::filesystem::relative(e.path(), dir).string()] = test::read_file(e.path());
+    return h;
+  };
+  std::ofstream(g / "expected" / "MY_NOTES.txt") << "mine\n";
+  auto before = files();
+  try {
+    validate::golden_bless(dir, "test", 1);
+    ADD_FAILURE() << "blessed over a file provenance.json does not list";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("MY_NOTES.txt: not listed in provenance.json"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(files(), before);
+  std::filesystem::remove(g / "expected" / "MY_NOTES.txt");
+  std::filesystem::create_directories(dir / "zz-notes");
+  std::ofstream(dir / "zz-notes" / "todo.txt") << "x\n";
+  before = files();
+  EXPECT_THROW(validate::golden_bless(dir, "test", 1), InputError);
+  EXPECT_EQ(files(), before) << "the first network was blessed before the second was refused";
+  EXPECT_THROW(validate::golden_bless(dir, "two\nlines", 1, "analytic-snr"), InputError);
+  EXPECT_EQ(validate::golden_bless(dir, "only the one", 1, "analytic-snr"), std::vector<std::string>{});
+  std::size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(g)) entries += e.path().filename().string()[0] == '.';
+  EXPECT_EQ(entries, 0u) << "no scratch folder left beside expected/";
 }
 
 TEST(golden, BlessRestoresAndRecordsTheReason) {

@@ -1,7 +1,5 @@
 #include "axonguide/validate/golden.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -12,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/error.hpp"
-#include "axonguide/resources.hpp"
 #include "axonguide/output.hpp"
+#include "axonguide/resources.hpp"
 #include "axonguide/threads.hpp"
 #include "axonguide/validate/report.hpp"
 #include "axonguide/version.hpp"
@@ -130,7 +128,8 @@ fs::path default_golden_dir() {
 
 std::vector<GoldenResult> golden_check(const fs::path& dir, const EngineFactory& make, int threads) {
   std::vector<GoldenResult> results;
-  const fs::path work = fs::temp_directory_path() / fmt::format("axonguide-golden-{}", ::getpid());
+  const ScratchDir scratch("axonguide-golden");  // removed however this ends
+  const fs::path& work = scratch.path();
   for (const fs::path& g : golden_networks(dir)) {
     GoldenResult r;
     r.name = g.filename().string();
@@ -165,34 +164,54 @@ std::vector<GoldenResult> golden_check(const fs::path& dir, const EngineFactory&
     }
     results.push_back(std::move(r));
   }
-  std::error_code ec;
-  fs::remove_all(work, ec);
   return results;
 }
 
 std::vector<std::string> golden_bless(const fs::path& dir, const std::string& reason, int threads,
                                       const std::string& only) {
   if (reason.empty()) throw InputError("golden bless: --reason TEXT is required (it goes into CHANGELOG.md)");
+  if (reason.find('\n') != std::string::npos || reason.find('\r') != std::string::npos)
+    throw InputError("golden bless: --reason is one line (it becomes a line of CHANGELOG.md)");
+  // Everything that can refuse does so before anything changes: every network to bless has a
+  // scene that loads, and an expected/ that holds only the files its provenance lists.
+  std::vector<std::pair<fs::path, Scene>> networks;
+  for (const fs::path& g : golden_networks(dir)) {
+    if (!only.empty() && g.filename().string() != only) continue;
+    if (!fs::exists(g / "scene.json"))
+      throw InputError(fmt::format("golden bless: {}/scene.json is missing (restore it from git, or remove the folder); "
+                                   "nothing was changed",
+                                   g.string()));
+    networks.emplace_back(g, load_scene_file((g / "scene.json").string()).scene);
+    if (fs::is_directory(g / "expected")) {
+      json listed = json::object();
+      try {
+        listed = json::parse(read_all(g / "provenance.json")).at("files");
+      } catch (const std::exception&) {
+      }
+      for (const auto& e : fs::directory_iterator(g / "expected"))
+        if (!listed.is_object() || !listed.contains(e.path().filename().string()))
+          throw InputError(fmt::format("golden bless: {}: not listed in provenance.json, and blessing replaces "
+                                       "expected/; move it out first. Nothing was changed",
+                                       e.path().string()));
+    }
+  }
+  if (!only.empty() && networks.empty())
+    throw InputError(fmt::format("golden bless: no golden network named '{}' under {}", only, dir.string()));
   std::vector<std::string> changed;
   std::string log;
-  bool found = only.empty();
-  for (const fs::path& g : golden_networks(dir)) {
+  for (const auto& [g, scene] : networks) {
     const std::string name = g.filename().string();
-    if (!only.empty() && name != only) continue;
-    found = true;
-    if (!fs::exists(g / "scene.json"))
-      throw InputError(fmt::format("golden bless: {}/scene.json is missing (restore it from git, or remove the folder)",
-                                   g.string()));
-    const Scene scene = load_scene_file((g / "scene.json").string()).scene;
-    const fs::path fresh = g / "expected.new";
-    run_into(scene, fresh, {}, threads);
+    // Rendered beside expected/ in a folder of this process's own, then swapped in by
+    // renames: expected/ is whole, old or new, at every instant.
+    const ScratchDir fresh(".expected.new", g);
+    run_into(scene, fresh.path() / "expected", {}, threads);
     json files = json::object();
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(fresh)) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(fresh.path() / "expected")) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
     bool differs = !fs::exists(g / "expected");
     for (const auto& f : names) {
-      const std::string hash = sha256_file(fresh / f);
+      const std::string hash = sha256_file(fresh.path() / "expected" / f);
       files[f] = hash;
       const fs::path old = g / "expected" / f;
       const std::string old_hash = fs::exists(old) ? sha256_file(old) : "none";
@@ -201,8 +220,8 @@ std::vector<std::string> golden_bless(const fs::path& dir, const std::string& re
         log += fmt::format("  - `{}/{}`: {} -> {}\n", name, f, old_hash.substr(0, 12), hash.substr(0, 12));
       }
     }
-    fs::remove_all(g / "expected");
-    fs::rename(fresh, g / "expected");
+    if (fs::exists(g / "expected")) fs::rename(g / "expected", fresh.path() / "old");
+    fs::rename(fresh.path() / "expected", g / "expected");
     json prov;
     prov["name"] = name;
     prov["seed"] = scene.seed;
@@ -217,13 +236,15 @@ std::vector<std::string> golden_bless(const fs::path& dir, const std::string& re
     prov["threads"] = threads;
     prov["backend"] = "reference";
     prov["files"] = files;
-    std::ofstream(g / "provenance.json") << prov.dump(2) << "\n";
+    write_file_atomically(g, "provenance.json", prov.dump(2) + "\n");
     if (differs) changed.push_back(name);
   }
-  if (!found) throw InputError(fmt::format("golden bless: no golden network named '{}' under {}", only, dir.string()));
-  std::ofstream cl(dir / "CHANGELOG.md", std::ios::app);
-  cl << fmt::format("\n## {} — commit {}\n\nReason: {}\n\n", utc_now(), kCommit, reason);
-  cl << (changed.empty() ? "No expected output changed.\n" : fmt::format("Changed: {}\n\n{}", fmt::join(changed, ", "), log));
+  // CHANGELOG.md: the old text and this entry, written whole under a temporary name.
+  const std::string before = fs::exists(dir / "CHANGELOG.md") ? read_all(dir / "CHANGELOG.md") : std::string();
+  write_file_atomically(
+      dir, "CHANGELOG.md",
+      before + fmt::format("\n## {} — commit {}\n\nReason: {}\n\n", utc_now(), kCommit, reason) +
+          (changed.empty() ? "No expected output changed.\n" : fmt::format("Changed: {}\n\n{}", fmt::join(changed, ", "), log)));
   return changed;
 }
 

@@ -117,7 +117,8 @@ void validate_gpu(const Options& o, Report& r) {
   }
   r.text("Device: " + accel::cuda_device_description());
   std::vector<std::vector<std::string>> rows;
-  const fs::path tmp = fs::temp_directory_path() / fmt::format("axonguide-validate-gpu-{}", ::getpid());
+  const ScratchDir scratch("axonguide-validate-gpu");
+  const fs::path& tmp = scratch.path();
   std::vector<std::pair<std::string, Scene>> scenes{{"builtin-default", Scene::builtin_default()}};
   for (const char* dir : {"scenes"}) {
     const fs::path root = data_dir() / dir;
@@ -146,8 +147,6 @@ void validate_gpu(const Options& o, Report& r) {
     r.check({"reference == cuda, byte for byte: " + name, same, same ? "all files identical" : "files differ",
              "identical SHA-256 of every output except timings", ""});
   }
-  std::error_code ec;
-  fs::remove_all(tmp, ec);
   r.table({"scene", "outputs"}, rows, "gpu.csv");
 }
 

@@ -10,10 +10,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
 #include "axonguide/resources.hpp"
 #include "axonguide/version.hpp"
 
@@ -42,9 +44,10 @@ void Report::heading(const std::string& title) { body_ += fmt::format("\n## {}\n
 void Report::text(const std::string& markdown) { body_ += markdown + "\n\n"; }
 
 namespace {
+// Written whole under a temporary name and renamed; a failed write is a RunError (exit 3).
 void write_csv(const fs::path& path, const std::vector<std::string>& header,
                const std::vector<std::vector<std::string>>& rows) {
-  std::ofstream out(path);
+  std::ostringstream out;
   auto line = [&](const std::vector<std::string>& cells) {
     for (std::size_t k = 0; k < cells.size(); ++k) {
       std::string c = cells[k];
@@ -59,6 +62,7 @@ void write_csv(const fs::path& path, const std::vector<std::string>& header,
   };
   line(header);
   for (const auto& r : rows) line(r);
+  write_file_atomically(path.parent_path(), path.filename().string(), out.str());
 }
 }  // namespace
 
@@ -187,7 +191,7 @@ std::size_t Report::skipped() const {
 }
 
 int Report::finish(bool allow_skip) {
-  std::ofstream md(dir_ / "report.md");
+  std::ostringstream md;
   std::size_t failed = 0;
   const std::size_t skipped = this->skipped();
   for (const auto& c : checks_) failed += !c.pass;
@@ -205,11 +209,15 @@ int Report::finish(bool allow_skip) {
     md << "\n";
   }
   md << body_;
-  std::ofstream csv(dir_ / "checks.csv");
+  std::ostringstream csv;
   csv << "check,result,measured,criterion,margin\n";
   for (const auto& c : checks_)
     csv << fmt::format("\"{}\",{},\"{}\",\"{}\",\"{}\"\n", c.name, c.skipped ? "skipped" : c.pass ? "pass" : "fail",
                        c.measured, c.criterion, c.margin);
+  // Whole under their names, or a RunError (exit 3): a report that was not written is not a
+  // PASS.
+  write_file_atomically(dir_, "checks.csv", csv.str());
+  write_file_atomically(dir_, "report.md", md.str());
   for (const auto& c : checks_)
     if (!c.pass)
       std::fprintf(stderr, "FAILED %s: measured %s; required %s (%s)\n", c.name.c_str(), c.measured.c_str(),

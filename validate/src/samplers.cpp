@@ -93,6 +93,17 @@ struct Outcome {
 // The battery on one point set: directions (normalised ball points) get Rayleigh,
 // Bingham, Gine and KS on the first and last coordinate against the exact marginal;
 // ball points also KS of (r/R)^d against U(0,1).
+// |x| of a d-vector, scaled by its largest component first, so that no square overflows
+// (points near 1e200) or underflows to 0 (points near 1e-170).
+double scaled_norm(const double* x, int d) {
+  double m = 0;
+  for (int k = 0; k < d; ++k) m = std::max(m, std::fabs(x[k]));
+  if (m == 0 || !std::isfinite(m)) return m;
+  double s = 0;
+  for (int k = 0; k < d; ++k) s += (x[k] / m) * (x[k] / m);
+  return m * std::sqrt(s);
+}
+
 Outcome run_battery(const std::vector<double>& x, std::size_t n, int d, bool ball, double radius) {
   Outcome o;
   std::vector<double> dir = x;
@@ -100,9 +111,7 @@ Outcome run_battery(const std::vector<double>& x, std::size_t n, int d, bool bal
   if (ball) {
     rpow.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      double s = 0;
-      for (int k = 0; k < d; ++k) s += x[i * d + k] * x[i * d + k];
-      const double r = std::sqrt(s);
+      const double r = scaled_norm(&x[i * d], d);
       rpow[i] = std::pow(r / radius, d);
       for (int k = 0; k < d; ++k) dir[i * d + k] = r > 0 ? x[i * d + k] / r : 0.0;
     }
@@ -295,11 +304,12 @@ void validate_points_file(const Options& o, Report& r) {
   bool unit = true;
   double max_r = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    double s = 0;
-    for (int k = 0; k < d; ++k) s += x[i * d + k] * x[i * d + k];
-    unit = unit && std::fabs(std::sqrt(s) - 1) < 1e-6;
-    max_r = std::max(max_r, std::sqrt(s));
+    const double norm = scaled_norm(&x[i * d], d);
+    unit = unit && std::fabs(norm - 1) < 1e-6;
+    max_r = std::max(max_r, norm);
   }
+  if (!std::isfinite(max_r))
+    throw InputError(fmt::format("--points {}: a point's length |x| is beyond the largest double", o.points_file));
   if (!unit && max_r > o.radius * (1 + 1e-12))
     throw InputError(fmt::format("--points {}: points are not unit vectors and reach |x| = {} beyond --radius {}",
                                  o.points_file, max_r, o.radius));

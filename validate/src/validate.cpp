@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/error.hpp"
+#include "axonguide/output.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::validate {
@@ -84,7 +85,7 @@ int run_validation(const std::string& what, const std::string& dir, const Option
                          out.seconds);
   }
   fs::create_directories(dir);
-  std::ofstream(fs::path(dir) / "report.md") << index;
+  write_file_atomically(dir, "report.md", index);
   std::printf("validation: %s%s -> %s/report.md\n", failed ? "FAIL" : skipped ? "SKIPPED" : "PASS",
               !failed && skipped && o.allow_skip ? ", allowed by --allow-skip" : "", dir.c_str());
   if (failed) return kExitCheckFailed;

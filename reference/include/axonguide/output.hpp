@@ -83,6 +83,21 @@ std::string write_file_atomically(const std::filesystem::path& dir, const std::s
 // Creates dir (and its parents) for output files; RunError naming it when it cannot.
 void create_output_dir(const std::filesystem::path& dir);
 
+// A fresh directory of this process's own (mkdtemp: a name no one can prepare in advance,
+// mode 0700) in `parent` (the system's temporary directory by default), removed with all it
+// holds when this goes out of scope, however that happens. RunError when it cannot be made.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& prefix, const std::filesystem::path& parent = {});
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
 // Syncs the file system that holds dir (syncfs): the deferred AtomicFiles written there
 // are on disk when it returns. Throws RunError when it fails.
 void sync_filesystem(const std::filesystem::path& dir);

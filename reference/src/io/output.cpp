@@ -329,6 +329,19 @@ std::string sha256_file(const fs::path& path) {
   return d.hex();
 }
 
+ScratchDir::ScratchDir(const std::string& prefix, const fs::path& parent) {
+  const fs::path base = parent.empty() ? fs::temp_directory_path() : parent;
+  std::string name = (base / (prefix + "-XXXXXX")).string();
+  if (!::mkdtemp(name.data()))
+    throw RunError(fmt::format("cannot make a scratch directory in {}: {}", base.string(), std::strerror(errno)));
+  path_ = name;
+}
+
+ScratchDir::~ScratchDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
 void prepare_output_dir(const fs::path& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))

@@ -129,6 +129,12 @@ json read_manifest(const fs::path& dir) {
   const fs::path p = dir / kManifestName;
   std::ifstream in(p, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: no {} (not a run's folder)", dir.string(), kManifestName));
+  // A run's manifest is a few KiB (a file line each); 64 MiB is not a manifest.
+  constexpr std::uintmax_t kMaxManifestBytes = std::uintmax_t{64} << 20;
+  std::error_code ec;
+  if (const std::uintmax_t size = fs::file_size(p, ec); !ec && size > kMaxManifestBytes)
+    throw InputError(fmt::format("{}: {} is {} bytes, more than a manifest can be ({})", dir.string(), kManifestName,
+                                 size, kMaxManifestBytes));
   std::ostringstream s;
   s << in.rdbuf();
   try {
@@ -187,24 +193,25 @@ FolderCheck verify_run_folder(const fs::path& dir) {
       }
       const fs::path p = dir / name;
       if (!fs::is_regular_file(p, ec)) {
-        c.problems.push_back(fmt::format("{}: missing", name));
+        c.problems.push_back(fmt::format("{}: missing", printable(name)));
         continue;
       }
       const json& want = it.value();
       if (!want.is_object() || !want.contains("sha256") || !want["sha256"].is_string()) {
-        c.problems.push_back(fmt::format("{}: no sha256 in the manifest", name));
+        c.problems.push_back(fmt::format("{}: no sha256 in the manifest", printable(name)));
         continue;
       }
       std::string got;
       try {
         got = sha256_file(p);
       } catch (const RunError& e) {
-        c.problems.push_back(fmt::format("{}: {}", name, e.what()));
+        c.problems.push_back(fmt::format("{}: {}", printable(name), e.what()));
         continue;
       }
       if (got != want["sha256"].get<std::string>())
-        c.problems.push_back(fmt::format("{}: SHA-256 {} but the manifest lists {}", name, got.substr(0, 16) + "…",
-                                         want["sha256"].get<std::string>().substr(0, 16) + "…"));
+        c.problems.push_back(fmt::format("{}: SHA-256 {} but the manifest lists {}", printable(name),
+                                         got.substr(0, 16) + "…",
+                                         printable(want["sha256"].get<std::string>().substr(0, 16)) + "…"));
     }
   }
   if (fs::exists(dir / kCheckpointName, ec) && c.status == "complete")
@@ -221,7 +228,7 @@ FolderCheck verify_run_folder(const fs::path& dir) {
   }
   for (const auto& e : fs::directory_iterator(dir, ec))
     if (is_temporary(e.path().filename().string()))
-      c.notes.push_back(fmt::format("{}: a temporary file of a killed run", e.path().filename().string()));
+      c.notes.push_back(fmt::format("{}: a temporary file of a killed run", printable(e.path().filename().string())));
   c.whole = c.problems.empty();
   return c;
 }

@@ -111,9 +111,12 @@ int run_program(const std::vector<std::string>& argv, const fs::path& log, const
   if (input && ::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) return -1;
   posix_spawn_file_actions_t fa;
   int rc = posix_spawn_file_actions_init(&fa);
-  if (rc == 0)
-    rc = input ? posix_spawn_file_actions_adddup2(&fa, sv[1], 0)
-               : posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  if (rc != 0) {  // nothing to destroy
+    if (input) ::close(sv[0]), ::close(sv[1]);
+    return -1;
+  }
+  rc = input ? posix_spawn_file_actions_adddup2(&fa, sv[1], 0)
+             : posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
   if (rc == 0 && !out.empty()) {
     rc = posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (rc == 0) rc = posix_spawn_file_actions_adddup2(&fa, 1, 2);

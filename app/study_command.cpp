@@ -257,8 +257,9 @@ int cmd_fit(const FitArgs& args) {
       throw InputError(fmt::format("--out {}: exists and is not a directory", args.out_dir));
   }
   const fit::Data data = fit::load_data(args.data_path);
-  const ParseResult parsed = load_scene_file(args.scene_path);
-  const json base = parse_json_strict(read_input_file(args.scene_path, "fit: scene"), args.scene_path);
+  const std::string scene_text = read_input_file(args.scene_path, "scene file");  // read once: checked, then the base
+  const ParseResult parsed = parse_scene(scene_text, args.scene_path);
+  const json base = parse_json_strict(scene_text, args.scene_path);
   fit::Options o;
   o.threads = resolve_threads(args.threads);
   o.fit_scale = args.scale;

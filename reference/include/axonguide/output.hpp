@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -76,6 +77,14 @@ class AtomicFile {
   std::size_t size_ = 0, capacity_ = 0;
   std::unique_ptr<BlockWriter> blocks_;
 };
+
+// An AtomicFile's temporary name, ".NAME.tmp-PID": the NAME it stands for and the process
+// that wrote it, or nothing when `filename` is not one.
+struct TemporaryName {
+  std::string name;
+  long pid;
+};
+std::optional<TemporaryName> parse_temporary_name(const std::string& filename);
 
 // Writes a whole file atomically (AtomicFile, write, commit); returns its SHA-256.
 std::string write_file_atomically(const std::filesystem::path& dir, const std::string& name, std::string_view text);

@@ -329,6 +329,15 @@ std::string sha256_file(const fs::path& path) {
   return d.hex();
 }
 
+std::optional<TemporaryName> parse_temporary_name(const std::string& filename) {
+  if (filename.size() < 2 || filename[0] != '.') return std::nullopt;
+  const auto at = filename.rfind(".tmp-");
+  if (at == std::string::npos || at < 2) return std::nullopt;
+  const std::string pid = filename.substr(at + 5);
+  if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  return TemporaryName{filename.substr(1, at - 1), std::stol(pid)};
+}
+
 ScratchDir::ScratchDir(const std::string& prefix, const fs::path& parent) {
   const fs::path base = parent.empty() ? fs::temp_directory_path() : parent;
   std::string name = (base / (prefix + "-XXXXXX")).string();

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -78,17 +79,13 @@ bool is_subfolder(const std::string& name) {
   return false;
 }
 
-// ".NAME.tmp-PID" for an output NAME (AtomicFile's temporary names).
+// AtomicFile's temporary name for an output NAME.
 bool is_temporary(const std::string& file) {
-  if (file.size() < 2 || file[0] != '.') return false;
-  const auto at = file.rfind(".tmp-");
-  if (at == std::string::npos || at < 2) return false;
-  const std::string pid = file.substr(at + 5);
-  if (pid.empty() || !std::all_of(pid.begin(), pid.end(), [](char c) { return c >= '0' && c <= '9'; })) return false;
-  const std::string name = file.substr(1, at - 1);
+  const std::optional<TemporaryName> t = parse_temporary_name(file);
+  if (!t) return false;
   for (const std::string& output : fixed_outputs())
-    if (fs::path(output).filename() == name) return true;
-  return ends_with(name, ".vtp") || ends_with(name, ".swc");
+    if (fs::path(output).filename() == t->name) return true;
+  return ends_with(t->name, ".vtp") || ends_with(t->name, ".swc");
 }
 
 std::string utc_now() {
@@ -114,6 +111,11 @@ void remove_file(const fs::path& p) {
   if (ec) throw RunError(fmt::format("cannot remove {}: {}", p.string(), ec.message()));
 }
 
+// A manifest's bytes: a regular file of at most 64 MiB (a run's is a few KiB, a line a file).
+std::string read_manifest_bytes(const fs::path& dir) {
+  return read_input_file((dir / kManifestName).string(), "manifest", std::size_t{64} << 20);
+}
+
 }  // namespace
 
 bool is_run_output(const std::string& name) {
@@ -127,18 +129,11 @@ bool is_run_output(const std::string& name) {
 
 json read_manifest(const fs::path& dir) {
   const fs::path p = dir / kManifestName;
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: no {} (not a run's folder)", dir.string(), kManifestName));
-  // A run's manifest is a few KiB (a file line each); 64 MiB is not a manifest.
-  constexpr std::uintmax_t kMaxManifestBytes = std::uintmax_t{64} << 20;
   std::error_code ec;
-  if (const std::uintmax_t size = fs::file_size(p, ec); !ec && size > kMaxManifestBytes)
-    throw InputError(fmt::format("{}: {} is {} bytes, more than a manifest can be ({})", dir.string(), kManifestName,
-                                 size, kMaxManifestBytes));
-  std::ostringstream s;
-  s << in.rdbuf();
+  if (!fs::exists(p, ec)) throw InputError(fmt::format("{}: no {} (not a run's folder)", dir.string(), kManifestName));
+  const std::string text = read_manifest_bytes(dir);
   try {
-    json j = parse_json_strict(s.str(), p.string());
+    json j = parse_json_strict(text, p.string());
     if (!j.is_object()) throw InputError("not a JSON object");
     // The keys the command reads with a default, of the type it reads them as: another type
     // is a damaged manifest (exit 2), not a JSON library's type error.
@@ -441,12 +436,8 @@ void make_replaced_run(const fs::path& dir) {
   fs::remove_all(kept, ec);  // one left by a run killed after it was whole
   if (!ec) fs::create_directory(kept, ec);
   if (ec) throw RunError(fmt::format("cannot make {} afresh: {}", kept.string(), ec.message()));
-  std::ifstream in(dir / kManifestName, std::ios::binary);
-  if (!in) throw RunError(fmt::format("cannot read {}", (dir / kManifestName).string()));
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
   AtomicFile copy(kept, kManifestName);  // its own bytes, synced before the running manifest replaces it
-  copy.write(bytes.str());
+  copy.write(read_manifest_bytes(dir));
   copy.commit();
 }
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <mutex>
 #include <sstream>
@@ -308,10 +309,10 @@ Spec parse_spec(const json& j, const std::string& origin, const fs::path& folder
   if (members > kMaxMembers) bad(origin, "more than 10^7 members (points x seeds): at most 10^7");
   // Every point must make a valid scene: check them before anything runs.
   for (std::size_t p = 0; p < point_count(s); ++p) {
-    const std::vector<json> values = point_values(s, p);
     try {
       parse_scene(member_scene_json(s, p * s.seeds.size()).dump(), fmt::format("{} point {}", origin, p));
     } catch (const InputError& e) {
+      const std::vector<json> values = point_values(s, p);
       std::string where;
       for (std::size_t k = 0; k < s.parameters.size(); ++k)
         where += fmt::format("{}{}={}", k ? ", " : "", s.parameters[k].name, value_text(values[k]));
@@ -511,12 +512,10 @@ void remove_killed_temporaries(const fs::path& members) {
   std::error_code ec;
   std::vector<fs::path> stale;
   for (const auto& e : fs::directory_iterator(members, ec)) {
-    const std::string name = e.path().filename().string();
-    const auto at = name.rfind(".json.tmp-");
-    if (name.size() < 2 || name[0] != '.' || name[1] != 'm' || at == std::string::npos) continue;
-    const std::string pid = name.substr(at + 10);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno == EPERM) continue;  // alive
+    const std::optional<TemporaryName> t = parse_temporary_name(e.path().filename().string());
+    if (!t || t->name.rfind('m', 0) != 0 || t->name.size() < 5 || t->name.substr(t->name.size() - 5) != ".json")
+      continue;
+    if (::kill(static_cast<pid_t>(t->pid), 0) == 0 || errno == EPERM) continue;  // alive
     stale.push_back(e.path());
   }
   for (const fs::path& p : stale) fs::remove(p, ec);

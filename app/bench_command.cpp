@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 #include "axonguide/version.hpp"
 #include "backend.hpp"
 #include "bench.hpp"

@@ -11,9 +11,9 @@
 #include <optional>
 #include <string>
 
-#include "axonguide/csv.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/resources.hpp"
+#include "axonguide/io/csv.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/resources.hpp"
 #include "axonguide/version.hpp"
 #include "commands.hpp"
 
@@ -32,7 +32,7 @@ int dispatch(int argc, char** argv) {
   CLI::App app{"axonguide: deterministic simulation of axon growth and guidance through diffusing cues"};
   app.require_subcommand(1);
   // The data folder is where the bundled scenes and golden networks are read from: the
-  // installed share/axonguide, or the source tree (axonguide/resources.hpp).
+  // installed share/axonguide, or the source tree (axonguide/support/resources.hpp).
   app.set_version_flag("--version", fmt::format("axonguide {} ({})\ndata: {}", axg::kVersion, axg::kCommit,
                                                 axg::data_dir().string()));
 

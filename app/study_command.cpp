@@ -12,22 +12,22 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "axonguide/assay.hpp"
-#include "axonguide/csv.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/neurons_csv.hpp"
+#include "axonguide/study/assay.hpp"
+#include "axonguide/io/csv.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/io/neurons_csv.hpp"
 #include "axonguide/distributed/launch.hpp"
 #include "axonguide/distributed/mpi_comm.hpp"
 #ifdef AXG_HAVE_MPI
 #include "axonguide/distributed/mpi_sweep.hpp"
 #endif
-#include "axonguide/error.hpp"
-#include "axonguide/fit.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/study/fit.hpp"
 #include "axonguide/core/pmath.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run_folder.hpp"
-#include "axonguide/sweep.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/io/run_folder.hpp"
+#include "axonguide/study/sweep.hpp"
+#include "axonguide/support/threads.hpp"
 #include "axonguide/validate/report.hpp"
 #include "backend.hpp"
 #include "commands.hpp"

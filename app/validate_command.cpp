@@ -1,7 +1,7 @@
 #include <fmt/format.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/threads.hpp"
 #include "axonguide/validate/golden.hpp"
 #include "axonguide/validate/validate.hpp"
 #include "backend.hpp"

@@ -13,13 +13,13 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "axonguide/csv.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/resources.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/neurons_csv.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run_folder.hpp"
+#include "axonguide/io/csv.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/resources.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/io/neurons_csv.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/io/run_folder.hpp"
 #include "axonguide/validate/report.hpp"
 #include "assets.hpp"
 #include "commands.hpp"

@@ -8,8 +8,8 @@
 #include <tbb/info.h>
 
 #include "axonguide/core/random.hpp"
-#include "axonguide/graph.hpp"
-#include "axonguide/placement.hpp"
+#include "axonguide/graph/graph.hpp"
+#include "axonguide/placement/placement.hpp"
 #include "bench.hpp"
 
 namespace axg::bench {

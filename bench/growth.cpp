@@ -14,10 +14,10 @@
 #include <fmt/format.h>
 #include <tbb/info.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/placement.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/placement/placement.hpp"
+#include "axonguide/support/threads.hpp"
 #include "bench.hpp"
 
 extern char** environ;

@@ -9,11 +9,11 @@
 
 #include "axonguide/core/random.hpp"
 #include "axonguide/core/sampler.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fields.hpp"
-#include "axonguide/placement.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/placement/placement.hpp"
+#include "axonguide/support/threads.hpp"
 #include "bench.hpp"
 
 namespace axg::bench {

@@ -9,9 +9,9 @@
 
 #include "axonguide/core/random.hpp"
 #include "axonguide/core/sampler.hpp"
-#include "axonguide/placement.hpp"
-#include "axonguide/sampler_nd.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/placement/placement.hpp"
+#include "axonguide/placement/sampler_nd.hpp"
+#include "axonguide/support/threads.hpp"
 #include "bench.hpp"
 
 namespace axg::bench {

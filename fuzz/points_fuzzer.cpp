@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 #include "axonguide/validate/points_csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

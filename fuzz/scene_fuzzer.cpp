@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "axonguide/error.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace {
 

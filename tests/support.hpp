@@ -19,11 +19,11 @@
 #include <fmt/format.h>
 #include <rapidcheck.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/scene.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/scene/scene.hpp"
+#include "axonguide/support/threads.hpp"
 
 namespace axg::test {
 

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "axonguide/accel/engines.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/error.hpp"
 #include "backends.hpp"
 
 namespace axg::accel {

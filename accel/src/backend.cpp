@@ -1,7 +1,7 @@
 #include "axonguide/accel/backend.hpp"
 
 #include "axonguide/accel/engines.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg::accel {
 

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "axonguide/engine.hpp"
-#include "axonguide/graph.hpp"
+#include "axonguide/engine/engine.hpp"
+#include "axonguide/graph/graph.hpp"
 
 namespace axg::accel {
 

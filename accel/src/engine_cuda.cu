@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/accel/engines.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 #include "backends.hpp"
 #include "pipeline.inl"
 

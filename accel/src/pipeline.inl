@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "axonguide/cell_grid.hpp"
+#include "axonguide/engine/cell_grid.hpp"
 #include "axonguide/core/cellgrid.hpp"
 #include "axonguide/core/estimate.hpp"
 #include "axonguide/core/growth.hpp"
@@ -32,11 +32,11 @@
 #include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/engine.hpp"
-#include "axonguide/growth_setup.hpp"
-#include "axonguide/axon_stages.hpp"
-#include "axonguide/signalling_setup.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/engine/engine.hpp"
+#include "axonguide/model/growth_setup.hpp"
+#include "axonguide/engine/axon_stages.hpp"
+#include "axonguide/model/signalling_setup.hpp"
 
 // Files follow concepts: device (launch, atomics, sorted grids), growth, particles, grid
 // field, graph, and the engine that strings them into steps.

@@ -1,7 +1,7 @@
 #include "axonguide/distributed/decomposed_run.hpp"
 
 #include "axonguide/distributed/placement.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg::distributed {
 

@@ -6,9 +6,9 @@
 #include <fmt/format.h>
 
 #include "axonguide/core/types.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/growth_setup.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/model/growth_setup.hpp"
 
 namespace axg::distributed {
 

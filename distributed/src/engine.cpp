@@ -6,12 +6,12 @@
 
 #include <tbb/parallel_for.h>
 
-#include "axonguide/axon_stages.hpp"
-#include "axonguide/cell_grid.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/engine/axon_stages.hpp"
+#include "axonguide/engine/cell_grid.hpp"
+#include "axonguide/support/error.hpp"
 #include "axonguide/distributed/fields.hpp"
-#include "axonguide/growth_setup.hpp"
-#include "axonguide/placement.hpp"
+#include "axonguide/model/growth_setup.hpp"
+#include "axonguide/placement/placement.hpp"
 
 namespace axg::distributed {
 

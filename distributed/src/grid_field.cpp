@@ -23,11 +23,11 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/cue_setup.hpp"
+#include "axonguide/model/cue_setup.hpp"
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/on_every_rank.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/lod.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/fields/lod.hpp"
 
 namespace axg::distributed {
 

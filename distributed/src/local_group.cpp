@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "axonguide/threads.hpp"
+#include "axonguide/support/threads.hpp"
 
 namespace axg::distributed {
 

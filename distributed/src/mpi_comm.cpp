@@ -14,7 +14,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/distributed/launch.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg::distributed {
 

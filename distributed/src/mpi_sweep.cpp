@@ -17,8 +17,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "axonguide/error.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/threads.hpp"
 
 namespace axg::distributed {
 

@@ -19,11 +19,11 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/particles.hpp"
-#include "axonguide/cue_setup.hpp"
+#include "axonguide/model/cue_setup.hpp"
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/on_every_rank.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/particle_stages.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/fields/particle_stages.hpp"
 
 namespace axg::distributed {
 

@@ -9,8 +9,8 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/distributed/on_every_rank.hpp"
-#include "axonguide/overlap_index.hpp"
-#include "axonguide/placement.hpp"
+#include "axonguide/placement/overlap_index.hpp"
+#include "axonguide/placement/placement.hpp"
 
 namespace axg::distributed {
 

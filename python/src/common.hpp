@@ -13,9 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "axonguide/error.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg::py_api {
 

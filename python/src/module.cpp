@@ -15,9 +15,9 @@
 
 #include "axonguide/accel/backend.hpp"
 #include "axonguide/accel/engines.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/run_folder.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/io/run_folder.hpp"
+#include "axonguide/support/threads.hpp"
 #include "axonguide/version.hpp"
 #include "common.hpp"
 

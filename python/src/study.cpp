@@ -7,11 +7,11 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/assay.hpp"
-#include "axonguide/fit.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/sweep.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/study/assay.hpp"
+#include "axonguide/study/fit.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/study/sweep.hpp"
+#include "axonguide/support/threads.hpp"
 #include "common.hpp"
 
 namespace axg::py_api {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "axonguide/core/random.hpp"
-#include "axonguide/graph.hpp"
+#include "axonguide/graph/graph.hpp"
 #include "support.hpp"
 
 namespace axg::test {

@@ -8,7 +8,7 @@
 
 #include "accel/backend_cases.hpp"
 #include "axonguide/accel/engines.hpp"
-#include "axonguide/placement.hpp"
+#include "axonguide/placement/placement.hpp"
 
 namespace axg {
 namespace {

@@ -16,8 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "axonguide/checkpoint.hpp"
-#include "axonguide/run_folder.hpp"
+#include "axonguide/engine/checkpoint.hpp"
+#include "axonguide/io/run_folder.hpp"
 #include "support.hpp"
 
 namespace axg {

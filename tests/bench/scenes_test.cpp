@@ -1,9 +1,9 @@
 // The bundled paper scenes are the scenes the benchmarks construct (no drift).
 #include <gtest/gtest.h>
 
-#include "axonguide/scene.hpp"
+#include "axonguide/scene/scene.hpp"
 #include "bench.hpp"
-#include "axonguide/sweep.hpp"
+#include "axonguide/study/sweep.hpp"
 #include "support.hpp"
 
 namespace axg {

@@ -25,15 +25,15 @@
 #include <optional>
 #include <string>
 
-#include "axonguide/checkpoint.hpp"
-#include "axonguide/cue_setup.hpp"
+#include "axonguide/engine/checkpoint.hpp"
+#include "axonguide/model/cue_setup.hpp"
 #include "axonguide/core/random.hpp"
 #include "axonguide/distributed/decomposed_run.hpp"
 #include "axonguide/distributed/launch.hpp"
 #include "axonguide/distributed/local_group.hpp"
 #include "axonguide/distributed/placement.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/placement.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/placement/placement.hpp"
 #include "support.hpp"
 
 namespace axg {

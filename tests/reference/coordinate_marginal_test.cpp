@@ -1,5 +1,5 @@
 // The marginal of one coordinate of a uniform point on S^(d-1): inverse CDF, CDF and pdf
-// (axonguide/coordinate_marginal.hpp).
+// (axonguide/placement/coordinate_marginal.hpp).
 //
 // Tolerances, and why:
 //  * Consistency of the inverse with the computed CDF ("solves F(x) = u"). The solver
@@ -21,7 +21,7 @@
 //    noise of F can reorder results by a few ulps (worst seen 30 ulp = 6e-15 relative, for
 //    large d just beyond the point where GSL switches continued fractions), so there the
 //    allowance is 2e-14 |x|.
-#include "axonguide/coordinate_marginal.hpp"
+#include "axonguide/placement/coordinate_marginal.hpp"
 
 #include <gsl/gsl_sf_gamma.h>
 #include <gtest/gtest.h>

@@ -8,9 +8,9 @@
 #include <cstring>
 
 #include "axonguide/core/steering.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/fields.hpp"
-#include "axonguide/lod.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/fields/lod.hpp"
 #include "support.hpp"
 
 namespace axg {

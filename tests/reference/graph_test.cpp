@@ -12,8 +12,8 @@
 #include <set>
 
 #include "axonguide/accel/engines.hpp"
-#include "axonguide/graph.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/graph/graph.hpp"
+#include "axonguide/support/threads.hpp"
 
 namespace axg {
 namespace {

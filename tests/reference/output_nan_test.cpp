@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "axonguide/canonical_nan.hpp"
+#include "axonguide/io/canonical_nan.hpp"
 #include "support.hpp"
 
 namespace axg {

@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "axonguide/core/random.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/overlap_index.hpp"
-#include "axonguide/placement.hpp"
-#include "axonguide/sampler_nd.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/placement/overlap_index.hpp"
+#include "axonguide/placement/placement.hpp"
+#include "axonguide/placement/sampler_nd.hpp"
+#include "axonguide/scene/scene.hpp"
 #include "axonguide/validate/validate.hpp"
 #include "support.hpp"
 

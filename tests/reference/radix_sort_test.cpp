@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "axonguide/core/random.hpp"
-#include "axonguide/radix_sort.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/support/radix_sort.hpp"
+#include "axonguide/support/threads.hpp"
 
 namespace axg {
 namespace {

@@ -9,9 +9,9 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/scene/scene.hpp"
 #include "support.hpp"
 
 namespace axg {

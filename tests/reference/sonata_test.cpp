@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "axonguide/sonata.hpp"
+#include "axonguide/io/sonata.hpp"
 #include "support.hpp"
 
 namespace axg {

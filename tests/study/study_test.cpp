@@ -9,12 +9,12 @@
 #include <fstream>
 #include <tuple>
 
-#include "axonguide/assay.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fit.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/placement.hpp"
-#include "axonguide/sweep.hpp"
+#include "axonguide/study/assay.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/study/fit.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/placement/placement.hpp"
+#include "axonguide/study/sweep.hpp"
 #include "support.hpp"
 
 namespace axg {

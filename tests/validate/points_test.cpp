@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 #include "axonguide/validate/points_csv.hpp"
 
 #include "axonguide/core/random.hpp"

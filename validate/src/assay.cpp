@@ -22,9 +22,9 @@
 #include <fmt/format.h>
 #include <gsl/gsl_cdf.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/resources.hpp"
-#include "axonguide/sweep.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/resources.hpp"
+#include "axonguide/study/sweep.hpp"
 #include "axonguide/validate/validate.hpp"
 
 namespace axg::validate {

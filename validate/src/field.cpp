@@ -22,9 +22,9 @@
 #include "axonguide/core/sampler.hpp"
 #include "axonguide/core/sensing.hpp"
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/fields.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/support/threads.hpp"
 #include "axonguide/validate/validate.hpp"
 
 namespace axg::validate {

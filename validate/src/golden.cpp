@@ -9,10 +9,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "axonguide/error.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/resources.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/support/resources.hpp"
+#include "axonguide/support/threads.hpp"
 #include "axonguide/validate/report.hpp"
 #include "axonguide/version.hpp"
 

@@ -12,11 +12,11 @@
 
 #include "axonguide/accel/engines.hpp"
 #include "axonguide/core/random.hpp"
-#include "axonguide/graph.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/resources.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/graph/graph.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/support/resources.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/support/threads.hpp"
 #include "axonguide/validate/validate.hpp"
 
 namespace axg::validate {

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/csv.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/io/csv.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg::validate {
 

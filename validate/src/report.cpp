@@ -14,9 +14,9 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/resources.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/support/resources.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::validate {

@@ -10,13 +10,13 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include "axonguide/coordinate_marginal.hpp"
+#include "axonguide/placement/coordinate_marginal.hpp"
 #include "axonguide/core/random.hpp"
 #include "axonguide/core/sampler.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/placement.hpp"
-#include "axonguide/sampler_nd.hpp"
-#include "axonguide/threads.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/placement/placement.hpp"
+#include "axonguide/placement/sampler_nd.hpp"
+#include "axonguide/support/threads.hpp"
 #include "axonguide/validate/points_csv.hpp"
 #include "axonguide/validate/stats.hpp"
 #include "axonguide/validate/validate.hpp"

@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/output.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/io/output.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::validate {

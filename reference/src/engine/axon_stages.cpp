@@ -1,4 +1,4 @@
-#include "axonguide/axon_stages.hpp"
+#include "axonguide/engine/axon_stages.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -8,11 +8,11 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fields.hpp"
-#include "axonguide/growth_setup.hpp"
-#include "axonguide/signalling_setup.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/model/growth_setup.hpp"
+#include "axonguide/model/signalling_setup.hpp"
 
 namespace axg {
 

@@ -1,4 +1,4 @@
-#include "axonguide/cell_grid.hpp"
+#include "axonguide/engine/cell_grid.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "axonguide/radix_sort.hpp"
+#include "axonguide/support/radix_sort.hpp"
 
 namespace axg {
 

@@ -1,9 +1,8 @@
 // Checkpoints: a flat little-endian stream of counted arrays, hashed as it is written.
 // Every count is checked against the bytes left before anything is allocated, so a
 // damaged file is an error and never a huge allocation.
-#include "axonguide/checkpoint.hpp"
+#include "axonguide/engine/checkpoint.hpp"
 
-#include <signal.h>
 
 #include <cstdlib>
 #include <cstring>
@@ -12,29 +11,14 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/fault.hpp"
-#include "axonguide/output.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/fault.hpp"
+#include "axonguide/io/output.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg {
 
 namespace fs = std::filesystem;
-
-void fault_point(std::string_view name) {
-  static const char* const at = std::getenv("AXG_FAULT_KILL_AT");
-  if (at == nullptr || name != at) return;
-  // AXG_FAULT_RANK: only that rank of an MPI job (Open MPI's or PMIx's rank variable).
-  static const char* const only = std::getenv("AXG_FAULT_RANK");
-  if (only != nullptr && *only != '\0') {
-    const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
-    if (rank == nullptr) rank = std::getenv("PMIX_RANK");
-    if (rank == nullptr || std::string_view(rank) != only) return;
-  }
-  static const char* const sig = std::getenv("AXG_FAULT_SIGNAL");
-  const std::string_view which = sig ? sig : "KILL";
-  ::raise(which == "INT" ? SIGINT : which == "TERM" ? SIGTERM : which == "STOP" ? SIGSTOP : SIGKILL);
-}
 
 std::string scene_hash(const Scene& scene) { return sha256_hex(scene_to_json(scene).dump()); }
 

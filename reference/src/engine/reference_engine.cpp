@@ -6,11 +6,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "axonguide/axon_stages.hpp"
-#include "axonguide/cell_grid.hpp"
-#include "axonguide/engine.hpp"
-#include "axonguide/fields.hpp"
-#include "axonguide/growth_setup.hpp"
+#include "axonguide/engine/axon_stages.hpp"
+#include "axonguide/engine/cell_grid.hpp"
+#include "axonguide/engine/engine.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/model/growth_setup.hpp"
 
 namespace axg {
 

@@ -1,15 +1,15 @@
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 #include <algorithm>
 #include <chrono>
 
 #include <fmt/format.h>
 
-#include "axonguide/checkpoint.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fault.hpp"
-#include "axonguide/placement.hpp"
+#include "axonguide/engine/checkpoint.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/fault.hpp"
+#include "axonguide/placement/placement.hpp"
 
 namespace axg {
 

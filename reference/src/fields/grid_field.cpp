@@ -11,10 +11,10 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fields.hpp"
-#include "axonguide/lod.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/fields/lod.hpp"
 
 namespace axg {
 

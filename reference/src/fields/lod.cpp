@@ -1,4 +1,4 @@
-#include "axonguide/lod.hpp"
+#include "axonguide/fields/lod.hpp"
 
 #include <algorithm>
 #include <vector>

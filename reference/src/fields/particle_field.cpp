@@ -11,11 +11,11 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include "axonguide/compact.hpp"
+#include "axonguide/support/compact.hpp"
 #include "axonguide/core/particles.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/fields.hpp"
-#include "axonguide/particle_stages.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/fields/particle_stages.hpp"
 
 namespace axg {
 

@@ -1,11 +1,11 @@
-#include "axonguide/particle_stages.hpp"
+#include "axonguide/fields/particle_stages.hpp"
 
 #include <stdexcept>
 #include <string>
 
 #include <tbb/parallel_for.h>
 
-#include "axonguide/state.hpp"
+#include "axonguide/engine/state.hpp"
 
 namespace axg {
 

@@ -1,4 +1,4 @@
-#include "axonguide/graph.hpp"
+#include "axonguide/graph/graph.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <exception>
 
-#include "axonguide/checkpoint.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/run_folder.hpp"
+#include "axonguide/engine/checkpoint.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/io/run_folder.hpp"
 
 namespace axg {
 

@@ -12,10 +12,10 @@
 #include <typeinfo>
 #include <streambuf>
 
-#include "axonguide/canonical_nan.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/io/canonical_nan.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

@@ -1,15 +1,15 @@
 // neurons.csv read back: the one reader (view, assay), as strict as the writer is exact.
-#include "axonguide/neurons_csv.hpp"
+#include "axonguide/io/neurons_csv.hpp"
 
 #include <cmath>
 #include <sstream>
 
 #include <fmt/format.h>
 
-#include "axonguide/csv.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/io/csv.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

@@ -1,4 +1,4 @@
-#include "axonguide/output.hpp"
+#include "axonguide/io/output.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -19,8 +19,8 @@
 #include <fmt/format.h>
 #include <openssl/evp.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/fault.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/fault.hpp"
 
 namespace axg {
 

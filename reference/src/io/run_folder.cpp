@@ -1,5 +1,5 @@
 // The run folder's protocol: ownership, the lock, the manifest's status and verification.
-#include "axonguide/run_folder.hpp"
+#include "axonguide/io/run_folder.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -19,13 +19,13 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/checkpoint.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fault.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/sonata.hpp"
+#include "axonguide/engine/checkpoint.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/fault.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/io/sonata.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg {

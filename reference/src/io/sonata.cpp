@@ -7,7 +7,7 @@
 // headers, symbol-table groups, whose links are kept sorted by name), the layout is
 // contiguous without filters, and the calls are the same for a given run whatever the
 // thread count. Strings are fixed-length, so nothing goes to a global heap.
-#include "axonguide/sonata.hpp"
+#include "axonguide/io/sonata.hpp"
 
 #include <fcntl.h>
 #include <hdf5.h>
@@ -27,10 +27,10 @@
 #include <nlohmann/json.hpp>
 #include <tbb/task_group.h>
 
-#include "axonguide/canonical_nan.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fault.hpp"
-#include "axonguide/output.hpp"
+#include "axonguide/io/canonical_nan.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/fault.hpp"
+#include "axonguide/io/output.hpp"
 
 // Sweeps write their members' SONATA files on several threads at once: the HDF5 library must
 // be a thread-safe build (Debian's is).

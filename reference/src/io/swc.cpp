@@ -1,14 +1,14 @@
 // SWC morphologies (docs/methods.md §4.3). Each file is a pure function of the run: numbers
 // in their shortest round-trip form, the soma first, the axon's points in step order.
-#include "axonguide/swc.hpp"
+#include "axonguide/io/swc.hpp"
 
 #include <fmt/format.h>
 
 #include <tbb/parallel_for.h>
 
-#include "axonguide/canonical_nan.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/io/canonical_nan.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

@@ -12,10 +12,10 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/canonical_nan.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/vtk.hpp"
+#include "axonguide/io/canonical_nan.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/io/vtk.hpp"
 
 namespace axg {
 

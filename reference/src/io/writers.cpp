@@ -9,16 +9,16 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
-#include "axonguide/canonical_nan.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fault.hpp"
-#include "axonguide/output.hpp"
-#include "axonguide/run_folder.hpp"
-#include "axonguide/run.hpp"
-#include "axonguide/sonata.hpp"
-#include "axonguide/swc.hpp"
+#include "axonguide/io/canonical_nan.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/fault.hpp"
+#include "axonguide/io/output.hpp"
+#include "axonguide/io/run_folder.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/io/sonata.hpp"
+#include "axonguide/io/swc.hpp"
 #include "axonguide/version.hpp"
-#include "axonguide/vtk.hpp"
+#include "axonguide/io/vtk.hpp"
 
 namespace axg {
 

@@ -1,4 +1,4 @@
-#include "axonguide/coordinate_marginal.hpp"
+#include "axonguide/placement/coordinate_marginal.hpp"
 
 #include <algorithm>
 #include <cmath>

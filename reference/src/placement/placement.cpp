@@ -1,4 +1,4 @@
-#include "axonguide/placement.hpp"
+#include "axonguide/placement/placement.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/random.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/overlap_index.hpp"
-#include "axonguide/sampler_nd.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/placement/overlap_index.hpp"
+#include "axonguide/placement/sampler_nd.hpp"
 
 namespace axg {
 

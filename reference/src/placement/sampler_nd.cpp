@@ -1,13 +1,13 @@
-#include "axonguide/sampler_nd.hpp"
+#include "axonguide/placement/sampler_nd.hpp"
 
 #include <cmath>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "axonguide/coordinate_marginal.hpp"
+#include "axonguide/placement/coordinate_marginal.hpp"
 #include "axonguide/core/sampler.hpp"
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg {
 

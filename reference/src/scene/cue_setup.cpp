@@ -1,4 +1,4 @@
-#include "axonguide/cue_setup.hpp"
+#include "axonguide/model/cue_setup.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/core/random.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/sampler_nd.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/placement/sampler_nd.hpp"
 
 namespace axg {
 

@@ -1,4 +1,4 @@
-#include "axonguide/json_input.hpp"
+#include "axonguide/scene/json_input.hpp"
 
 #include <sys/stat.h>
 
@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg {
 

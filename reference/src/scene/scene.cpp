@@ -1,4 +1,4 @@
-#include "axonguide/scene.hpp"
+#include "axonguide/scene/scene.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +11,10 @@
 #include <fmt/format.h>
 
 #include "axonguide/core/cues.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/signalling_setup.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/model/signalling_setup.hpp"
 
 namespace axg {
 

@@ -1,4 +1,4 @@
-#include "axonguide/signalling_setup.hpp"
+#include "axonguide/model/signalling_setup.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/error.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

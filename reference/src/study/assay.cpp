@@ -1,11 +1,11 @@
-#include "axonguide/assay.hpp"
+#include "axonguide/study/assay.hpp"
 
 #include <cmath>
 #include <limits>
 
 #include "axonguide/core/pmath.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/placement.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/placement/placement.hpp"
 
 namespace axg::assay {
 

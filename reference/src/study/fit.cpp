@@ -1,4 +1,4 @@
-#include "axonguide/fit.hpp"
+#include "axonguide/study/fit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,14 +10,14 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/assay.hpp"
-#include "axonguide/csv.hpp"
+#include "axonguide/study/assay.hpp"
+#include "axonguide/io/csv.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/core/rosenbrock.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/signalling_setup.hpp"
-#include "axonguide/sweep.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/model/signalling_setup.hpp"
+#include "axonguide/study/sweep.hpp"
 
 namespace axg::fit {
 

@@ -1,4 +1,4 @@
-#include "axonguide/sweep.hpp"
+#include "axonguide/study/sweep.hpp"
 
 #include <signal.h>
 
@@ -18,12 +18,12 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "axonguide/assay.hpp"
+#include "axonguide/study/assay.hpp"
 #include "axonguide/core/pmath.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/fault.hpp"
-#include "axonguide/json_input.hpp"
-#include "axonguide/output.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/support/fault.hpp"
+#include "axonguide/scene/json_input.hpp"
+#include "axonguide/io/output.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::sweep {

@@ -1,4 +1,4 @@
-#include "axonguide/error.hpp"
+#include "axonguide/support/error.hpp"
 
 #include <fmt/format.h>
 #include <sys/resource.h>

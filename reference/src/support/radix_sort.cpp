@@ -1,4 +1,4 @@
-#include "axonguide/radix_sort.hpp"
+#include "axonguide/support/radix_sort.hpp"
 
 #include <algorithm>
 

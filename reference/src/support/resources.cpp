@@ -1,4 +1,4 @@
-#include "axonguide/resources.hpp"
+#include "axonguide/support/resources.hpp"
 
 #include <dlfcn.h>
 

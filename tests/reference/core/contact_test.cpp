@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "axonguide/cell_grid.hpp"
+#include "axonguide/engine/cell_grid.hpp"
 #include "axonguide/core/contact.hpp"
 #include "axonguide/core/growth.hpp"
 

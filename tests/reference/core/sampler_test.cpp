@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "axonguide/core/sampler.hpp"
-#include "axonguide/error.hpp"
-#include "axonguide/sampler_nd.hpp"
+#include "axonguide/support/error.hpp"
+#include "axonguide/placement/sampler_nd.hpp"
 
 namespace axg {
 namespace {

@@ -3,7 +3,7 @@
 // the Python module's run(backend=) accept.
 #include <string>
 
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg::accel {
 // Refuses backend NAME before any work is done: InputError (exit 2) for an unknown name

@@ -12,7 +12,7 @@
 #include "axonguide/distributed/decomposition.hpp"
 #include "axonguide/distributed/engine.hpp"
 #include "axonguide/distributed/on_every_rank.hpp"
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg::distributed {
 

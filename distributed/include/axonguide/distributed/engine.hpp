@@ -13,7 +13,7 @@
 #include "axonguide/distributed/decomposition.hpp"
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/placement.hpp"
-#include "axonguide/engine.hpp"
+#include "axonguide/engine/engine.hpp"
 
 namespace axg::distributed {
 

@@ -27,7 +27,7 @@
 #include "axonguide/core/cues.hpp"
 #include "axonguide/distributed/comm.hpp"
 #include "axonguide/distributed/decomposition.hpp"
-#include "axonguide/fields.hpp"
+#include "axonguide/fields/fields.hpp"
 
 namespace axg::distributed {
 

@@ -11,7 +11,7 @@
 // without it mpirun ends the job, and the re-run runs the members not yet recorded.
 #include <string>
 
-#include "axonguide/sweep.hpp"
+#include "axonguide/study/sweep.hpp"
 
 namespace axg::distributed {
 

@@ -25,7 +25,7 @@
 #include "axonguide/core/vec3.hpp"
 #include "axonguide/distributed/comm.hpp"
 #include "axonguide/distributed/decomposition.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg::distributed {
 

@@ -4,7 +4,7 @@
 // draws, so a point is a pure function of (seed, tag, id, step).
 //
 // The coordinate sampler needs the incomplete beta function (GSL) and lives in the
-// host-only placement code (axonguide/sampler_nd.hpp); the rest are here.
+// host-only placement code (axonguide/placement/sampler_nd.hpp); the rest are here.
 #include <cmath>
 
 #include "hd.hpp"

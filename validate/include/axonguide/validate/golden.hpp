@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg::validate {
 

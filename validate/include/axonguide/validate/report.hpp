@@ -70,7 +70,7 @@ int run_program(const std::vector<std::string>& argv, const std::filesystem::pat
                 const std::string* input = nullptr);
 
 // Where the plotting scripts live: AXG_PLOTS_DIR, or validate/plots under data_dir()
-// (axonguide/resources.hpp: the installed share/axonguide, or the source tree).
+// (axonguide/support/resources.hpp: the installed share/axonguide, or the source tree).
 std::filesystem::path plots_dir();
 
 }  // namespace axg::validate

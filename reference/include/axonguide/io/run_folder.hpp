@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "axonguide/scene.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

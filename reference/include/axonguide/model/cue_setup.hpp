@@ -10,7 +10,7 @@
 #include "axonguide/core/estimate.hpp"
 #include "axonguide/core/particles.hpp"
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg::sweep {
 

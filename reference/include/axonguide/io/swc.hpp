@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg {
 

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg {
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "axonguide/core/vec3.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg::fit {
 

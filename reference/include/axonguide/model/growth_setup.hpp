@@ -1,14 +1,14 @@
 #pragma once
 // Scene-derived parameters of the growth stage, shared by every backend so that both
 // hand identical numbers to core::grow_axon.
-#include "axonguide/cell_grid.hpp"
+#include "axonguide/engine/cell_grid.hpp"
 #include <cmath>
 
 #include "axonguide/core/growth.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/core/wander.hpp"
-#include "axonguide/scene.hpp"
-#include "axonguide/signalling_setup.hpp"
+#include "axonguide/scene/scene.hpp"
+#include "axonguide/model/signalling_setup.hpp"
 
 namespace axg {
 

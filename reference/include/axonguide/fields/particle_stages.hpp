@@ -8,8 +8,8 @@
 
 #include "axonguide/core/estimate.hpp"
 #include "axonguide/core/particles.hpp"
-#include "axonguide/cue_setup.hpp"
-#include "axonguide/radix_sort.hpp"
+#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/support/radix_sort.hpp"
 
 namespace axg {
 

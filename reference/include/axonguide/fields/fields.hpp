@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "axonguide/core/cues.hpp"
-#include "axonguide/scene.hpp"
-#include "axonguide/state.hpp"
+#include "axonguide/scene/scene.hpp"
+#include "axonguide/engine/state.hpp"
 
 namespace axg {
 

@@ -12,10 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/core/cues.hpp"
-#include "axonguide/engine.hpp"
-#include "axonguide/graph.hpp"
-#include "axonguide/scene.hpp"
-#include "axonguide/state.hpp"
+#include "axonguide/engine/engine.hpp"
+#include "axonguide/graph/graph.hpp"
+#include "axonguide/scene/scene.hpp"
+#include "axonguide/engine/state.hpp"
 
 namespace axg {
 

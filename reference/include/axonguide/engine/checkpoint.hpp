@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <string>
 
-#include "axonguide/run.hpp"
-#include "axonguide/state.hpp"
+#include "axonguide/engine/run.hpp"
+#include "axonguide/engine/state.hpp"
 
 namespace axg {
 

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "axonguide/graph.hpp"
-#include "axonguide/placement.hpp"
-#include "axonguide/scene.hpp"
-#include "axonguide/state.hpp"
+#include "axonguide/graph/graph.hpp"
+#include "axonguide/placement/placement.hpp"
+#include "axonguide/scene/scene.hpp"
+#include "axonguide/engine/state.hpp"
 
 namespace axg {
 

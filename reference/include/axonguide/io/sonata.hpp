@@ -7,7 +7,7 @@
 // name and renamed; the bytes are a function of the run alone (no HDF5 timestamps).
 #include <filesystem>
 
-#include "axonguide/run.hpp"
+#include "axonguide/engine/run.hpp"
 
 namespace axg {
 

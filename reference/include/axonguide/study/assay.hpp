@@ -16,8 +16,8 @@
 
 #include "axonguide/core/cues.hpp"
 #include "axonguide/core/vec3.hpp"
-#include "axonguide/scene.hpp"
-#include "axonguide/state.hpp"
+#include "axonguide/scene/scene.hpp"
+#include "axonguide/engine/state.hpp"
 
 namespace axg::assay {
 

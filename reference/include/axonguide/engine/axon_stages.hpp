@@ -13,7 +13,7 @@
 #include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/wander.hpp"
-#include "axonguide/scene.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 

@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/engine/checkpoint.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
 #include "axonguide/distributed/decomposed_run.hpp"
 #include "axonguide/distributed/launch.hpp"
 #include "axonguide/distributed/mpi_comm.hpp"

@@ -9,7 +9,8 @@
 
 #include "axonguide/core/random.hpp"
 #include "axonguide/core/sampler.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/stencil.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/fields/fields.hpp"
 #include "axonguide/placement/placement.hpp"

@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "axonguide/accel/engines.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/particles.hpp"
+#include "axonguide/model/stencil.hpp"
 #include "axonguide/support/error.hpp"
 #include "backends.hpp"
 

@@ -32,11 +32,17 @@
 #include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/model/cue_setup.hpp"
-#include "axonguide/engine/engine.hpp"
-#include "axonguide/model/growth_setup.hpp"
 #include "axonguide/engine/axon_stages.hpp"
-#include "axonguide/model/signalling_setup.hpp"
+#include "axonguide/engine/engine.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/estimate.hpp"
+#include "axonguide/model/growth.hpp"
+#include "axonguide/model/particles.hpp"
+#include "axonguide/model/sensing.hpp"
+#include "axonguide/model/signalling.hpp"
+#include "axonguide/model/stencil.hpp"
+#include "axonguide/model/steering.hpp"
+#include "axonguide/model/wander.hpp"
 
 // Files follow concepts: device (launch, atomics, sorted grids), growth, particles, grid
 // field, graph, and the engine that strings them into steps.

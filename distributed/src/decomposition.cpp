@@ -6,9 +6,11 @@
 #include <fmt/format.h>
 
 #include "axonguide/core/types.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/growth.hpp"
+#include "axonguide/model/particles.hpp"
+#include "axonguide/model/sensing.hpp"
+#include "axonguide/model/stencil.hpp"
 #include "axonguide/support/error.hpp"
-#include "axonguide/model/growth_setup.hpp"
 
 namespace axg::distributed {
 

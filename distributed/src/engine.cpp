@@ -10,7 +10,7 @@
 #include "axonguide/engine/cell_grid.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/distributed/fields.hpp"
-#include "axonguide/model/growth_setup.hpp"
+#include "axonguide/model/growth.hpp"
 #include "axonguide/placement/placement.hpp"
 
 namespace axg::distributed {

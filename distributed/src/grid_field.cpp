@@ -23,7 +23,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/stencil.hpp"
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/support/error.hpp"

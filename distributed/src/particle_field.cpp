@@ -19,7 +19,10 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/particles.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/estimate.hpp"
+#include "axonguide/model/particles.hpp"
+#include "axonguide/model/sensing.hpp"
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/support/error.hpp"

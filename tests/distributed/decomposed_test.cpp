@@ -26,7 +26,8 @@
 #include <string>
 
 #include "axonguide/engine/checkpoint.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/particles.hpp"
 #include "axonguide/core/random.hpp"
 #include "axonguide/distributed/decomposed_run.hpp"
 #include "axonguide/distributed/launch.hpp"

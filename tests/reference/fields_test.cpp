@@ -8,7 +8,9 @@
 #include <cstring>
 
 #include "axonguide/core/steering.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/sensing.hpp"
+#include "axonguide/model/steering.hpp"
 #include "axonguide/fields/fields.hpp"
 #include "axonguide/fields/lod.hpp"
 #include "support.hpp"

@@ -404,7 +404,7 @@ RC_GTEST_PROP(scene, AcceptedModelOptionsRoundTrip, ()) {
   RC_ASSERT(back.axons.persistence_length == s.axons.persistence_length);
   RC_ASSERT(back.molecule_amount() == s.molecule_amount());
   RC_ASSERT(back.cues.particles.amount == s.cues.particles.amount);
-  RC_ASSERT(back.grid_spacing() == s.grid_spacing());
+  RC_ASSERT(grid_spacing(back) == grid_spacing(s));
 }
 
 // One molecule in each system of units: 1 nM is 0.602214076 molecules per um^3, LU read as
@@ -425,13 +425,13 @@ TEST(scene, MoleculeAmountFollowsTheUnits) {
 
 // The grid's default spacing follows the cues' shortest decay length and the sensing radius.
 TEST(scene, GridSpacingDefaultFollowsTheDecayLength) {
-  EXPECT_NEAR(Scene::builtin_default().grid_spacing(), 1.0 / 6.0, 1e-15);  // lambda = 1 LU
+  EXPECT_NEAR(grid_spacing(Scene::builtin_default()), 1.0 / 6.0, 1e-15);  // lambda = 1 LU
   const Scene s = parse_scene(R"({"cues": {"sources": [{"diffusion": 0.5, "decay": 0.05}]}})", "t").scene;
-  EXPECT_NEAR(s.grid_spacing(), std::min(0.5, std::sqrt(10.0) / 6.0), 1e-15);
+  EXPECT_NEAR(grid_spacing(s), std::min(0.5, std::sqrt(10.0) / 6.0), 1e-15);
   const Scene t = parse_scene(R"({"cues": {"sources": [{"decay": 0}]}})", "t").scene;
-  EXPECT_EQ(t.grid_spacing(), 0.5);  // no decay: the sensing radius
+  EXPECT_EQ(grid_spacing(t), 0.5);  // no decay: the sensing radius
   const Scene u = parse_scene(R"({"cues": {"grid": {"spacing": 0.3}}})", "t").scene;
-  EXPECT_EQ(u.grid_spacing(), 0.3);
+  EXPECT_EQ(grid_spacing(u), 0.3);
 }
 
 }  // namespace

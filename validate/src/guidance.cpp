@@ -35,7 +35,10 @@
 #include "axonguide/core/sensing.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/sensing.hpp"
+#include "axonguide/model/steering.hpp"
+#include "axonguide/model/stencil.hpp"
 #include "axonguide/fields/fields.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/support/threads.hpp"
@@ -1028,7 +1031,7 @@ void work_precision(const Options& o, Report& r, const ExplantStudy& explant_st)
   // Grids about the default rule's spacing (min(r, lambda / 6) = 1/6 here): h x {4, 2, 1, 1/2}
   // (implicit; the finest with 2 sub-steps) and h x {8, 4, 2, 1} (explicit, whose finer grids
   // need many sub-steps: h = 1/12 would take 44 per step).
-  const double h0 = Scene::builtin_default().grid_spacing();
+  const double h0 = grid_spacing(Scene::builtin_default());
   auto grid_levels = [&](GridScheme scheme) {
     std::vector<Resolution> v;
     const bool implicit = scheme == GridScheme::kImplicit;

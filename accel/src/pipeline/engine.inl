@@ -13,7 +13,6 @@ class AccelEngine final : public Engine {
         wander_(wander_params(scene)),
         cues_host_(make_cues(scene)),
         sense_(sense_params(scene)),
-        steer_(steer_params(scene)),
         particle_params_(particle_params(scene)),
         hash_(particle_hash_geometry(scene)),
         grid_geometry_(grid_field_geometry(scene)),
@@ -40,8 +39,8 @@ class AccelEngine final : public Engine {
     modulated_ = modulates_growth(scene);
     if (modulated_ || scene.signalling()) step_length_.assign(n, growth_.step_length);
     if (scene.uses_cues()) init_field();
+    guide_ = guide_params(scene, raw(cues_), static_cast<int>(cues_host_.size()));
     if (scene.signalling()) {
-      signal_params_ = signalling_params(scene);
       soma_by_id_.assign(placement.soma.begin(), placement.soma.end());
       signal_.assign(n * core::kSignalSpecies, 0.0);
       receptors_.assign(n, 0.0);
@@ -169,8 +168,8 @@ class AccelEngine final : public Engine {
         soma_signals(false);
       }
       ScopedPhase p(times, step, "steer");
-      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(), growth_.step_length,
-                                   modulated_, fields(), steer_, signal_arrays(), scene_.seed, step});
+      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(), fields(), guide_,
+                                   signal_arrays(), step});
       if (scene_.signalling()) check_signalling(step);
     }
     {
@@ -306,7 +305,7 @@ class AccelEngine final : public Engine {
   SignalArrays signal_arrays() {
     SignalArrays a{};
     if (!scene_.signalling()) return a;
-    a.params = signal_params_;
+    a.params = guide_.signal;
     a.d_signal = raw(signal_);
     a.d_inhibition = raw(inhibition_);
     a.d_receptors = raw(receptors_);
@@ -532,7 +531,6 @@ class AccelEngine final : public Engine {
   core::WanderParams wander_;
   std::vector<core::CueParams> cues_host_;
   core::SenseParams sense_;
-  core::SteerParams steer_;
   core::ParticleParams particle_params_;
   HashGeometry hash_;
   GridGeometry3 grid_geometry_;
@@ -562,7 +560,7 @@ class AccelEngine final : public Engine {
   std::vector<std::uint32_t> substeps_;
   // The signalling model.
   bool modulated_ = false;
-  core::SignallingParams signal_params_{};
+  core::GuideParams guide_{};  // stage 2's parameters; its cues are cues_
   dvec<Vec3> soma_by_id_;
   dvec<double> signal_, receptors_, inhibition_;
   dvec<std::uint32_t> fail_id_;

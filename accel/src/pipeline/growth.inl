@@ -68,32 +68,22 @@ struct Steer {
   const Vec3* d_tip;
   Vec3* d_heading;
   double* d_step_length;  // null unless axons have their own step lengths
-  double step_length;     // l0
-  bool modulated;         // growth-rate modulation
   CueFields fields;
-  core::SteerParams params;
-  SignalArrays signal;    // d_signal null without the signalling model
-  std::uint64_t seed;
+  core::GuideParams guide;  // its cues are fields.d_cues
+  SignalArrays signal;      // d_signal null without the signalling model
   std::uint32_t step;
   AXG_HD void operator()(std::size_t a) const {
     const std::uint32_t k = d_active[a];
     core::CueSample samples[core::kMaxCues];
     Vec3 pull[core::kMaxCues];
     sample_fields(d_tip[k], fields, samples, pull);
-    const core::Steered s = core::steer_axon(d_heading[k], samples, pull, fields.d_cues, fields.cue_count, fields.sense,
-                                             params, seed, d_ids[k], step);
-    d_heading[k] = s.heading;
-    if (modulated) d_step_length[k] = core::modulated_step(step_length, s.along, params);
-    if (signal.d_signal) {
-      const core::SignallingStep g =
-          core::signalling_step(signal.params, signal.d_signal + static_cast<std::size_t>(k) * core::kSignalSpecies,
-                                samples[signal.cue].c, signal.d_inhibition[d_ids[k]], signal.dt, signal.substeps,
-                                signal.halvings);
-      d_step_length[k] = g.grown;
-      if (g.status != core::StiffStatus::kOk) {
-        signal.d_fail_code[k] = static_cast<std::uint16_t>((static_cast<int>(g.status) << 8) | (g.species + 1));
-        atomic_min(signal.d_fail_id, d_ids[k]);
-      }
+    const core::GuidedAxon axon{d_heading + k, d_step_length ? d_step_length + k : nullptr,
+                                signal.d_signal ? signal.d_signal + static_cast<std::size_t>(k) * core::kSignalSpecies : nullptr,
+                                signal.d_signal ? signal.d_inhibition[d_ids[k]] : 0.0};
+    const core::SignallingStep g = core::guide_axon(guide, samples, pull, axon, d_ids[k], step);
+    if (g.status != core::StiffStatus::kOk) {
+      signal.d_fail_code[k] = static_cast<std::uint16_t>((static_cast<int>(g.status) << 8) | (g.species + 1));
+      atomic_min(signal.d_fail_id, d_ids[k]);
     }
   }
 };

@@ -8,11 +8,14 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/growth.hpp"
+#include "axonguide/model/sensing.hpp"
+#include "axonguide/model/signalling.hpp"
+#include "axonguide/model/steering.hpp"
+#include "axonguide/model/wander.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/fields/fields.hpp"
-#include "axonguide/model/growth_setup.hpp"
-#include "axonguide/model/signalling_setup.hpp"
 
 namespace axg {
 
@@ -23,15 +26,9 @@ AxonStages::AxonStages(const Scene& scene)
       modulated_(modulates_growth(scene)),
       signalling_(scene.signalling()),
       cues_(make_cues(scene)),
-      sense_(sense_params(scene)),
-      steer_(steer_params(scene)) {
+      guide_(guide_params(scene, cues_.data(), static_cast<int>(cues_.size()))) {
   if (signalling_) {
-    signal_params_ = signalling_params(scene);
-    signal_cue_ = static_cast<int>(scene.axons.signalling.cue);
-    signal_substeps_ = static_cast<int>(scene.axons.signalling.substeps);
-    signal_halvings_ = static_cast<int>(scene.axons.signalling.halvings);
     population_inhibition_ = scene.axons.signalling.population;
-    dt_ = scene.dt;
     populations_ = scene.neurons.populations;
   }
 }
@@ -44,7 +41,6 @@ SignallingFailure first_failure(SignallingFailure x, SignallingFailure y) { retu
 
 SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a,
                                     std::uint32_t step) const {
-  const int cue_count = static_cast<int>(cues_.size());
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, slots.size()), SignallingFailure{},
       [&](const tbb::blocked_range<std::size_t>& r, SignallingFailure failed) {
@@ -53,19 +49,11 @@ SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
           const std::uint32_t k = slots[s];
           field.sample(a.tip[k], samples, pull);
-          const core::Steered st = core::steer_axon(a.heading[k], samples, pull, cues_.data(), cue_count, sense_, steer_,
-                                                    seed_, a.id[k], step);
-          a.heading[k] = st.heading;
-          if (modulated_) a.step_length[k] = core::modulated_step(params_.step_length, st.along, steer_);
-          if (signalling_) {
-            const core::SignallingStep g =
-                core::signalling_step(signal_params_, a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies,
-                                      samples[signal_cue_].c, a.inhibition[a.id[k]], dt_, signal_substeps_,
-                                      signal_halvings_);
-            a.step_length[k] = g.grown;
-            if (g.status != core::StiffStatus::kOk && a.id[k] < failed.neuron)
-              failed = {a.id[k], g.species, g.status};
-          }
+          const core::GuidedAxon axon{&a.heading[k], a.step_length ? &a.step_length[k] : nullptr,
+                                      a.signal ? a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies : nullptr,
+                                      a.inhibition ? a.inhibition[a.id[k]] : 0.0};
+          const core::SignallingStep g = core::guide_axon(guide_, samples, pull, axon, a.id[k], step);
+          if (g.status != core::StiffStatus::kOk && a.id[k] < failed.neuron) failed = {a.id[k], g.species, g.status};
         }
         return failed;
       },
@@ -74,13 +62,13 @@ SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std
 
 void AxonStages::soma_signals(const CueField& field, const std::vector<core::Vec3>& soma, double* receptors,
                               double* inhibition, bool start) const {
-  const core::SignallingParams& q = signal_params_;
+  const core::SignallingParams& q = guide_.signal;
   tbb::parallel_for(std::size_t{0}, soma.size(), [&](std::size_t i) {
     core::CueSample samples[core::kMaxCues];
     core::Vec3 pull[core::kMaxCues];
     field.sample(soma[i], samples, pull);
-    const double c = samples[signal_cue_].c;
-    receptors[i] = start ? core::bound_receptors(q.It, q.kpI, q.kmI, c) : core::soma_receptor_step(q, receptors[i], c, dt_);
+    const double c = samples[guide_.signal_cue].c;
+    receptors[i] = start ? core::bound_receptors(q.It, q.kpI, q.kmI, c) : core::soma_receptor_step(q, receptors[i], c, guide_.dt);
   });
   inhibition_from(receptors, inhibition, soma.size());
 }
@@ -122,7 +110,7 @@ void AxonStages::start_signals(const CueField& field, const std::vector<core::Ve
     core::CueSample samples[core::kMaxCues];
     core::Vec3 pull[core::kMaxCues];
     field.sample(soma[id], samples, pull);
-    core::signalling_steady_state(signal_params_, samples[signal_cue_].c, a.inhibition[id],
+    core::signalling_steady_state(guide_.signal, samples[guide_.signal_cue].c, a.inhibition[id],
                                   a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies);
   });
 }

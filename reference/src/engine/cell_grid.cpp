@@ -6,9 +6,15 @@
 
 #include <tbb/parallel_for.h>
 
+#include "axonguide/scene/scene.hpp"
 #include "axonguide/support/radix_sort.hpp"
 
 namespace axg {
+
+GridGeometry soma_grid_geometry(const Scene& s) {
+  const double contact = s.neurons.soma_radius + s.axons.contact_distance;
+  return cube_geometry(s.neurons.radius + contact, 2.0 * contact, static_cast<double>(s.neurons.count));
+}
 
 GridGeometry cube_geometry(double half, double min_cell, double max_cells) {
   GridGeometry g;

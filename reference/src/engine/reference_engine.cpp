@@ -10,7 +10,7 @@
 #include "axonguide/engine/cell_grid.hpp"
 #include "axonguide/engine/engine.hpp"
 #include "axonguide/fields/fields.hpp"
-#include "axonguide/model/growth_setup.hpp"
+#include "axonguide/model/growth.hpp"
 
 namespace axg {
 

@@ -6,7 +6,8 @@
 #include <fmt/format.h>
 
 #include "axonguide/engine/checkpoint.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/particles.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/support/fault.hpp"
 #include "axonguide/placement/placement.hpp"

@@ -11,7 +11,9 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/stencil.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
+#include "axonguide/model/sensing.hpp"
+#include "axonguide/model/stencil.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/fields/fields.hpp"
 #include "axonguide/fields/lod.hpp"

@@ -13,7 +13,9 @@
 
 #include "axonguide/support/compact.hpp"
 #include "axonguide/core/particles.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/estimate.hpp"
+#include "axonguide/model/particles.hpp"
+#include "axonguide/model/sensing.hpp"
 #include "axonguide/fields/fields.hpp"
 #include "axonguide/fields/particle_stages.hpp"
 

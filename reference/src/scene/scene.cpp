@@ -10,11 +10,9 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/core/cues.hpp"
-#include "axonguide/model/cue_setup.hpp"
-#include "axonguide/support/error.hpp"
 #include "axonguide/scene/json_input.hpp"
-#include "axonguide/model/signalling_setup.hpp"
+#include "axonguide/scene/reader.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg {
 
@@ -24,178 +22,6 @@ namespace {
 
 constexpr std::size_t kMaxSceneBytes = 16u << 20;  // a scene is a few KiB; 16 MiB is abuse
 constexpr int kMaxNesting = 32;                     // the format needs 5 levels
-
-std::string show(const json& v) {
-  std::string s = v.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
-}
-
-std::string join_path(const std::string& path, const std::string& key) {
-  return path.empty() ? key : path + "." + key;
-}
-
-[[noreturn]] void fail(const std::string& path, const json& value, const std::string& allowed) {
-  throw InputError(fmt::format("scene: {} = {}: {}", path, show(value), allowed), path, show(value), allowed);
-}
-
-// An allowed numeric interval, printed the way a user reads it.
-struct Range {
-  double lo = -HUGE_VAL, hi = HUGE_VAL;
-  bool lo_open = false, hi_open = false;
-  std::string text() const {
-    const bool has_lo = lo != -HUGE_VAL, has_hi = hi != HUGE_VAL;
-    if (has_lo && has_hi)
-      return fmt::format("must be in {}{}, {}{}", lo_open ? '(' : '[', lo, hi, hi_open ? ')' : ']');
-    if (has_lo) return fmt::format("must be {} {}", lo_open ? ">" : ">=", lo);
-    if (has_hi) return fmt::format("must be {} {}", hi_open ? "<" : "<=", hi);
-    return "must be a finite number";
-  }
-  bool contains(double v) const {
-    if (lo_open ? !(v > lo) : !(v >= lo)) return false;
-    if (hi_open ? !(v < hi) : !(v <= hi)) return false;
-    return true;
-  }
-};
-Range positive() { return {0, HUGE_VAL, true, false}; }
-Range non_negative() { return {0, HUGE_VAL, false, false}; }
-Range closed(double lo, double hi) { return {lo, hi, false, false}; }
-
-// Reads one JSON object, remembering which keys were consumed so that unknown keys
-// can be reported with the list of allowed ones.
-class ObjectReader {
- public:
-  ObjectReader(const json& j, std::string path) : j_(j), path_(std::move(path)) {
-    if (!j_.is_object()) fail(path_.empty() ? "(scene)" : path_, j_, "must be a JSON object");
-  }
-
-  const json* take(const char* key) {
-    bool seen = false;
-    for (const char* k : allowed_) seen = seen || std::strcmp(k, key) == 0;
-    if (!seen) allowed_.push_back(key);
-    auto it = j_.find(key);
-    return it == j_.end() ? nullptr : &*it;
-  }
-  std::string path(const char* key) const { return join_path(path_, key); }
-
-  void number(const char* key, double& out, Range range) {
-    if (const json* v = take(key)) out = read_number(*v, path(key), range);
-  }
-  void optional_number(const char* key, std::optional<double>& out, Range range) {
-    if (const json* v = take(key)) {
-      if (v->is_null()) out.reset();
-      else out = read_number(*v, path(key), range);
-    }
-  }
-  template <class Int>
-  void integer(const char* key, Int& out, std::uint64_t lo, std::uint64_t hi) {
-    if (const json* v = take(key)) out = static_cast<Int>(read_integer(*v, path(key), lo, hi));
-  }
-  void boolean(const char* key, bool& out) {
-    if (const json* v = take(key)) {
-      if (!v->is_boolean()) fail(path(key), *v, "must be true or false");
-      out = v->get<bool>();
-    }
-  }
-  template <class E>
-  void choice(const char* key, E& out, std::initializer_list<std::pair<const char*, E>> names) {
-    const json* v = take(key);
-    if (!v) return;
-    std::string allowed;
-    for (auto& [name, value] : names) {
-      if (v->is_string() && v->get<std::string>() == name) {
-        out = value;
-        return;
-      }
-      allowed += fmt::format("{}\"{}\"", allowed.empty() ? "" : ", ", name);
-    }
-    fail(path(key), *v, "must be one of " + allowed);
-  }
-
-  // Reports the first key that was never taken.
-  void finish() const {
-    for (auto it = j_.begin(); it != j_.end(); ++it) {
-      bool known = false;
-      for (const char* k : allowed_) known = known || it.key() == k;
-      if (!known) {
-        std::string list;
-        for (const char* k : allowed_) list += fmt::format("{}{}", list.empty() ? "" : ", ", k);
-        throw InputError(fmt::format("scene: unknown key {} (allowed here: {})", join_path(path_, it.key()), list),
-                         join_path(path_, it.key()), show(it.value()), "one of the keys " + list);
-      }
-    }
-  }
-
-  static double read_number(const json& v, const std::string& path, Range range) {
-    if (!v.is_number()) fail(path, v, "must be a number; " + range.text());
-    double x = v.get<double>();
-    if (!std::isfinite(x)) fail(path, v, "must be finite; " + range.text());
-    if (!range.contains(x)) fail(path, v, range.text());
-    return x;
-  }
-  // Integers are compared exactly (a 64-bit seed does not fit a double); a float is
-  // accepted when it is integral, so that 1e6 means 1000000.
-  static std::uint64_t read_integer(const json& v, const std::string& path, std::uint64_t lo,
-                                    std::uint64_t hi) {
-    const std::string allowed = fmt::format("must be an integer in [{}, {}]", lo, hi);
-    if (v.is_number_unsigned()) {
-      std::uint64_t x = v.get<std::uint64_t>();
-      if (x < lo || x > hi) fail(path, v, allowed);
-      return x;
-    }
-    if (v.is_number_integer()) {  // negative (non-negative ones are number_unsigned)
-      fail(path, v, allowed);
-    }
-    if (!v.is_number_float()) fail(path, v, allowed);
-    double x = v.get<double>();
-    if (!std::isfinite(x) || x != std::floor(x) || x < static_cast<double>(lo) ||
-        x > static_cast<double>(hi) || x >= 18446744073709551616.0)
-      fail(path, v, allowed);
-    return static_cast<std::uint64_t>(x);
-  }
-
- private:
-  const json& j_;
-  std::string path_;
-  std::vector<const char*> allowed_;
-};
-
-core::Vec3 read_position(const json& v, const std::string& path) {
-  if (!v.is_array() || v.size() != 3) fail(path, v, "must be [x, y, z] or null");
-  double c[3];
-  // + 0.0 turns -0 into +0: one position, one canonical form and one sort key.
-  for (int k = 0; k < 3; ++k)
-    c[k] = ObjectReader::read_number(v[k], fmt::format("{}[{}]", path, k), Range{}) + 0.0;
-  return {c[0], c[1], c[2]};
-}
-
-void read_source_common(ObjectReader& r, double& emission, double& diffusion, double& decay,
-                        double& kd) {
-  // Particles per step; 2^31 keeps every per-step count and particle id exact.
-  r.number("emission", emission, closed(0, 2147483648.0));
-  r.number("diffusion", diffusion, positive());
-  r.number("decay", decay, non_negative());
-  r.number("kd", kd, positive());
-}
-
-Source read_source(const json& j, const std::string& path) {
-  Source s;
-  ObjectReader r(j, path);
-  r.choice("kind", s.kind, {{"attractant", CueKind::kAttractant}, {"repellent", CueKind::kRepellent}});
-  if (const json* p = r.take("position")) {
-    if (p->is_null()) s.position.reset();
-    else s.position = read_position(*p, r.path("position"));
-  }
-  read_source_common(r, s.emission, s.diffusion, s.decay, s.kd);
-  r.number("min_concentration", s.min_concentration, non_negative());
-  r.number("max_concentration", s.max_concentration, positive());
-  r.finish();
-  if (s.min_concentration > s.max_concentration)
-    throw InputError(fmt::format(
-        "scene: {}.min_concentration = {} is above {}.max_concentration = {}: min must be <= max",
-        path, s.min_concentration, path, s.max_concentration));
-  return s;
-}
 
 void read_scene(const json& root, Scene& s) {
   ObjectReader top(root, "");
@@ -212,7 +38,7 @@ void read_scene(const json& root, Scene& s) {
     r.finish();
   }
   // The default persistence length follows the declared length unit.
-  s.axons.persistence_length = kDefaultPersistenceUm / s.units.micrometres();
+  s.axons.persistence_length = default_persistence_length(s.units);
 
   if (const json* j = top.take("neurons")) {
     ObjectReader r(*j, "neurons");
@@ -233,7 +59,7 @@ void read_scene(const json& root, Scene& s) {
     r.choice("heading", n.radial_heading, {{"random", false}, {"radial", true}});
     if (const json* pops = r.take("populations")) {
       if (!pops->is_array() || pops->empty() || pops->size() > 64)
-        fail("neurons.populations", *pops, "must be an array of 1 to 64 objects {count, center, radius}");
+        fail_key("neurons.populations", *pops, "must be an array of 1 to 64 objects {count, center, radius}");
       std::uint64_t total = 0;
       for (std::size_t k = 0; k < pops->size(); ++k) {
         const std::string path = fmt::format("neurons.populations[{}]", k);
@@ -247,7 +73,7 @@ void read_scene(const json& root, Scene& s) {
         n.populations.push_back(p);
       }
       if (total > (std::uint64_t{1} << 53))
-        fail("neurons.populations", *pops, "the counts must sum to at most 2^53");
+        fail_key("neurons.populations", *pops, "the counts must sum to at most 2^53");
       if (r.take("count") && n.count != total)
         throw InputError(fmt::format(
             "scene: neurons.count = {} but neurons.populations sum to {}: give one, or make them agree", n.count,
@@ -259,160 +85,41 @@ void read_scene(const json& root, Scene& s) {
 
   if (const json* j = top.take("axons")) {
     ObjectReader r(*j, "axons");
-    auto& a = s.axons;
-    std::optional<double> step_length = a.step_length;
-    const bool step_length_given = r.take("step_length") != nullptr;
-    r.optional_number("step_length", step_length, positive());
-    r.optional_number("growth_speed", a.growth_speed, positive());
-    if (a.growth_speed) {
-      if (step_length_given && step_length)
-        throw InputError(fmt::format(
-            "scene: axons.step_length = {} and axons.growth_speed = {} are both given: give one (the step length is "
-            "growth_speed x dt)",
-            *step_length, *a.growth_speed));
-      a.step_length = *a.growth_speed * s.dt;
-      if (!(a.step_length > 0.0) || !std::isfinite(a.step_length))
-        fail("axons.growth_speed", *a.growth_speed, fmt::format("growth_speed x dt = {} must be a positive finite step length", a.step_length));
-    } else if (!step_length) {
-      fail("axons.step_length", nullptr, "must be a positive number (null only when axons.growth_speed is given)");
-    } else {
-      a.step_length = *step_length;
-    }
-    r.number("contact_distance", a.contact_distance, non_negative());
-    r.choice("contact", a.contact, {{"swept", ContactRule::kSwept}, {"endpoint", ContactRule::kEndpoint}});
-    r.optional_number("bounds_radius", a.bounds_radius, positive());
-    r.optional_number("persistence_length", a.persistence_length, positive());
-    r.number("growth_modulation", a.growth_modulation, {0, 1, false, true});
-    r.choice("growth_model", a.growth_model, {{"constant", GrowthModel::kConstant}, {"signalling", GrowthModel::kSignalling}});
-    if (const json* sg = r.take("signalling")) {
-      ObjectReader rr(*sg, "axons.signalling");
-      auto& q = a.signalling;
-      rr.integer("cue", q.cue, 0, static_cast<std::uint64_t>(core::kMaxCues - 1));
-      rr.choice("inhibition", q.population, {{"population", true}, {"soma", false}});
-      rr.integer("substeps", q.substeps, 1, 100000);
-      rr.integer("halvings", q.halvings, 0, 20);
-      for (std::size_t k = 0; k < kSignalParameters; ++k) {
-        const SignalParameter& p = kSignalTable[k];
-        if (const json* v = rr.take(p.name)) {
-          if (v->is_null() && p.derived) q.given[k].reset();
-          else q.given[k] = read_signal_value(*v, rr.path(p.name), p);
-        }
-      }
-      rr.finish();
-    }
+    read_growth_keys(r, s.axons, s.dt);
+    read_wander_keys(r, s.axons);
+    read_modulation_keys(r, s.axons);
+    read_signalling_keys(r, s.axons);
     r.finish();
   }
 
   if (const json* j = top.take("guidance")) {
     ObjectReader r(*j, "guidance");
-    auto& g = s.guidance;
-    r.choice("model", g.model, {{"direct", GuidanceModel::kDirect}, {"snr", GuidanceModel::kSnr},
-                                {"vector_sum", GuidanceModel::kVectorSum},
-                                {"source_vector_sum", GuidanceModel::kSourceVectorSum}});
-    r.choice("noise", g.noise, {{"binding", NoiseForm::kBinding}, {"snapshot", NoiseForm::kSnapshot},
-                                {"count", NoiseForm::kCount}});
-    r.number("turn_angle", g.turn_angle, {0, 3.141592653589793, false, false});
-    r.number("gain", g.gain, non_negative());
-    r.number("vector_weight", g.vector_weight, non_negative());
-    r.number("growth_cone_width", g.growth_cone_width, positive());
-    r.number("sensing_radius", g.sensing_radius, positive());
+    read_steering_keys(r, s.guidance);
+    read_sensing_keys(r, s.guidance);
     r.finish();
   }
 
   if (const json* j = top.take("cues")) {
     ObjectReader r(*j, "cues");
-    auto& c = s.cues;
+    read_cue_keys(r, s.cues);
+    read_molecule_keys(r, s.cues);
     bool amount_given = false;
-    r.choice("field", c.field, {{"particles", FieldKind::kParticles}, {"grid", FieldKind::kGrid},
-                                {"analytic", FieldKind::kAnalytic}, {"imposed", FieldKind::kImposed}});
-    r.integer("warmup_steps", c.warmup_steps, 0, 1000000);
-    if (const json* src = r.take("sources")) {
-      if (!src->is_array()) fail("cues.sources", *src, "must be an array of source objects");
-      c.sources.clear();
-      for (std::size_t k = 0; k < src->size(); ++k)
-        c.sources.push_back(read_source((*src)[k], fmt::format("cues.sources[{}]", k)));
-    }
-    if (const json* rs = r.take("random_sources")) {
-      ObjectReader rr(*rs, "cues.random_sources");
-      auto& q = c.random_sources;
-      rr.integer("count", q.count, 0, 1000000);
-      rr.number("attractant_fraction", q.attractant_fraction, closed(0, 1));
-      read_source_common(rr, q.emission, q.diffusion, q.decay, q.kd);
-      rr.finish();
-    }
-    r.optional_number("molecule_amount", c.molecule_amount, positive());
     if (const json* p = r.take("particles")) {
       ObjectReader rr(*p, "cues.particles");
-      auto& q = c.particles;
-      amount_given = rr.take("amount") != nullptr;
-      rr.number("amount", q.amount, positive());
-      rr.boolean("molecules", q.molecules);
-      if (const json* e = rr.take("estimate")) {
-        ObjectReader er(*e, "cues.particles.estimate");
-        er.optional_number("spacing", q.estimate.spacing, positive());
-        er.optional_number("time", q.estimate.time, non_negative());
-        er.finish();
-      }
-      rr.choice("motion", q.motion, {{"brownian", Motion::kBrownian}, {"ballistic", Motion::kBallistic}});
-      rr.boolean("collisions", q.collisions);
-      rr.number("speed", q.speed, non_negative());
-      rr.number("damping", q.damping, closed(0, 1));
-      rr.number("radius", q.radius, positive());
-      rr.number("stiffness", q.stiffness, closed(0, 1));
+      amount_given = read_particle_keys(rr, s.cues.particles);
       rr.finish();
     }
-    if (const json* g = r.take("grid")) {
-      ObjectReader rr(*g, "cues.grid");
-      auto& q = c.grid;
-      rr.optional_number("spacing", q.spacing, positive());
-      rr.choice("scheme", q.scheme, {{"explicit", GridScheme::kExplicit}, {"implicit", GridScheme::kImplicit}});
-      rr.choice("boundary", q.boundary, {{"absorbing", GridBoundary::kAbsorbing},
-                                         {"reflecting", GridBoundary::kReflecting}});
-      rr.boolean("allow_substeps", q.allow_substeps);
-      if (const json* m = rr.take("substeps")) {
-        if (m->is_null()) q.substeps.reset();
-        else q.substeps = static_cast<std::uint32_t>(ObjectReader::read_integer(*m, rr.path("substeps"), 1, 1000000));
-      }
-      rr.finish();
-    }
-    if (c.molecule_amount && s.units.length == "um" && s.units.concentration != "CU")
-      throw InputError(fmt::format(
-          "scene: cues.molecule_amount = {}: the scene declares physical units ({}), which fix one molecule at {:.6g} "
-          "{} um^3; remove the key (it is for scenes without physical length or concentration units)",
-          *c.molecule_amount, s.units.describe(), s.molecule_amount_from_units(), s.units.concentration));
-    if (c.particles.molecules) {
-      const double m = s.molecule_amount();
-      if (amount_given && c.particles.amount != m)
-        throw InputError(fmt::format(
-            "scene: cues.particles.amount = {} with cues.particles.molecules = true: a molecule-resolved particle is "
-            "one molecule, {:.6g} (concentration x length^3 in this scene's units); remove the amount or make it equal",
-            c.particles.amount, m));
-      c.particles.amount = m;
-    }
-    if (const json* g = r.take("imposed")) {
-      ObjectReader rr(*g, "cues.imposed");
-      auto& q = c.imposed;
-      rr.choice("profile", q.profile, {{"linear", ImposedProfile::kLinear}, {"exponential", ImposedProfile::kExponential}});
-      if (const json* d = rr.take("direction")) {
-        const core::Vec3 v = read_position(*d, "cues.imposed.direction");
-        const double n = core::norm(v);
-        if (!(n > 0.0) || !(n < HUGE_VAL)) fail("cues.imposed.direction", *d, "must be a non-zero finite vector [x, y, z]");
-        q.direction = v;  // as written (the canonical form reads back unchanged); normalised where used
-      }
-      // Up to +100 % per reference length for a linear profile, and far more for an
-      // exponential one; 0 is the no-gradient control.
-      rr.number("steepness", q.steepness, closed(0, 1e6));
-      rr.number("reference_length", q.reference_length, positive());
-      rr.number("concentration", q.concentration, positive());
-      rr.finish();
-    }
+    read_grid_keys(r, s.cues.grid);
+    check_molecule_amount(s);
+    resolve_molecules(s, amount_given);
+    read_imposed_keys(r, s.cues.imposed);
     r.finish();
   }
 
   if (const json* j = top.take("analysis")) {
     ObjectReader r(*j, "analysis");
     if (const json* b = r.take("bfs_sources")) {
-      if (!b->is_array()) fail("analysis.bfs_sources", *b, "must be an array of neuron ids");
+      if (!b->is_array()) fail_key("analysis.bfs_sources", *b, "must be an array of neuron ids");
       s.analysis.bfs_sources.clear();
       for (std::size_t k = 0; k < b->size(); ++k)
         s.analysis.bfs_sources.push_back(static_cast<std::uint64_t>(ObjectReader::read_integer(
@@ -436,7 +143,7 @@ void read_scene(const json& root, Scene& s) {
     if (const json* v = r.take("graphml")) {
       if (v->is_null()) s.output.graphml.reset();
       else if (v->is_boolean()) s.output.graphml = v->get<bool>();
-      else fail(r.path("graphml"), *v, fmt::format("must be true, false or null (null: written up to {} neurons)",
+      else fail_key(r.path("graphml"), *v, fmt::format("must be true, false or null (null: written up to {} neurons)",
                                                     Scene::kGraphmlAutoLimit));
     }
     r.optional_number("conduction_speed", s.output.conduction_speed, positive());
@@ -479,81 +186,17 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
       throw InputError(fmt::format(
           "scene: analysis.bfs_sources[{}] = {}: must be a neuron id below neurons.count = {}", k,
           s.analysis.bfs_sources[k], n.count));
-  if (s.axons.growth_modulation > 0.0 && s.guidance.model != GuidanceModel::kSnr)
-    throw InputError(fmt::format(
-        "scene: axons.growth_modulation = {}: growth-rate modulation responds to the SNR evidence and needs "
-        "guidance.model = \"snr\" (it is \"{}\")",
-        s.axons.growth_modulation, name_of(s.guidance.model)));
-  if (s.signalling()) {
-    const auto& u = s.units;
-    if (u.length != "um" || u.time == "step" || u.concentration == "CU")
-      throw InputError(fmt::format(
-          "scene: axons.growth_model = \"signalling\" needs physical units (units.length \"um\", units.time \"s\", "
-          "\"min\" or \"h\", units.concentration \"pM\", \"nM\" or \"uM\"): its rate constants are per time and per "
-          "concentration; the scene has {}",
-          u.describe()));
-    if (s.axons.growth_modulation > 0.0)
-      throw InputError(fmt::format(
-          "scene: axons.growth_modulation = {} with axons.growth_model = \"signalling\": both would set the step length; "
-          "the signalling model sets it, so growth_modulation must be 0",
-          s.axons.growth_modulation));
-    if (s.source_count() == 0)
-      throw InputError("scene: axons.growth_model = \"signalling\" needs a cue source (cues.sources or "
-                       "cues.random_sources): its receptors read the concentration of cue axons.signalling.cue");
-    if (s.axons.signalling.cue >= s.source_count())
-      throw InputError(fmt::format("scene: axons.signalling.cue = {}: the scene has {} cue source(s), numbered 0 to {} in "
-                                   "the canonical order",
-                                   s.axons.signalling.cue, s.source_count(), s.source_count() - 1));
-  }
+  check_steering(s);
+  check_signalling(s);
   if (s.guidance.model == GuidanceModel::kDirect && !s.signalling()) {
     if (cues_given) warnings.push_back("guidance.model is \"direct\": the cues section is ignored");
     return;
   }
-  if (s.source_count() > static_cast<std::size_t>(core::kMaxCues))
-    throw InputError(fmt::format(
-        "scene: cues.sources has {} and cues.random_sources.count {}: at most {} cue sources in all",
-        s.cues.sources.size(), s.cues.random_sources.count, core::kMaxCues));
-  const double rb = s.bounds_radius();
-  for (std::size_t k = 0; k < s.cues.sources.size(); ++k) {
-    const auto& p = s.cues.sources[k].position;
-    if (!p) continue;
-    const bool inside = n.shape == RegionShape::kBox
-                            ? std::fabs(p->x) <= rb && std::fabs(p->y) <= rb && std::fabs(p->z) <= rb
-                            : core::norm(*p) <= rb;
-    if (!inside)
-      throw InputError(fmt::format(
-          "scene: cues.sources[{}].position = [{}, {}, {}]: must lie inside the domain ({} of {} {})",
-          k, p->x, p->y, p->z, n.shape == RegionShape::kBox ? "box" : "ball",
-          n.shape == RegionShape::kBox ? "half-edge" : "radius", rb));
-  }
-  if (s.cues.field == FieldKind::kParticles && s.estimate_spacing() >= rb)
-    throw InputError(fmt::format(
-        "scene: cues.particles.estimate.spacing = {}: must be below the domain radius {} (the estimate's mesh needs "
-        "cells)",
-        s.estimate_spacing(), rb));
-  if (s.cues.particles.molecules && s.cues.field != FieldKind::kParticles)
-    warnings.push_back(fmt::format("cues.particles.molecules is true but cues.field is \"{}\": it applies to the "
-                                   "particle field only and is ignored",
-                                   name_of(s.cues.field)));
-  if (s.cues.field == FieldKind::kGrid && s.grid_spacing() >= rb)
-    throw InputError(fmt::format(
-        "scene: cues.grid.spacing = {}: must be below the domain radius {} (the grid needs cells)",
-        s.grid_spacing(), rb));
+  check_cues(s);
+  check_estimate(s);
+  check_particles(s, warnings);
+  check_grid_spacing(s);
 }
-
-}  // namespace
-
-std::vector<Source> canonical_sources(std::vector<Source> sources) {
-  auto key = [](const Source& s) {
-    const core::Vec3 p = s.position.value_or(core::Vec3{0.0, 0.0, 0.0});
-    return std::make_tuple(static_cast<int>(s.kind), s.position.has_value(), p.x, p.y, p.z, s.emission, s.diffusion,
-                           s.decay, s.kd, s.min_concentration, s.max_concentration);
-  };
-  std::stable_sort(sources.begin(), sources.end(), [&](const Source& a, const Source& b) { return key(a) < key(b); });
-  return sources;
-}
-
-namespace {
 
 ParseResult parse_scene_unescaped(const std::string& text, const std::string& origin) {
   const json root = parse_json_strict(text, origin, kMaxNesting);
@@ -644,26 +287,6 @@ const char* name_of(NoiseForm v) {
 const char* name_of(ImposedProfile v) { return v == ImposedProfile::kLinear ? "linear" : "exponential"; }
 const char* name_of(GrowthModel v) { return v == GrowthModel::kConstant ? "constant" : "signalling"; }
 
-double Scene::grid_spacing() const {
-  if (cues.grid.spacing) return *cues.grid.spacing;
-  double lambda = HUGE_VAL;
-  for (const Source& src : cues.sources)
-    if (src.decay > 0) lambda = std::min(lambda, std::sqrt(src.diffusion / src.decay));
-  if (cues.random_sources.count > 0 && cues.random_sources.decay > 0)
-    lambda = std::min(lambda, std::sqrt(cues.random_sources.diffusion / cues.random_sources.decay));
-  return std::min({guidance.sensing_radius, lambda / kGridPointsPerLambda, 0.25 * bounds_radius()});
-}
-
-double Scene::molecule_amount() const { return cues.molecule_amount ? *cues.molecule_amount : molecule_amount_from_units(); }
-
-double Scene::molecule_amount_from_units() const {
-  // One molecule is 1 / 0.602214076 nM um^3 (1 nM = 6.02214076e14 per litre, a litre
-  // 10^15 um^3); in the scene's units, with CU read as nM and LU as kMicrometresPerLu um.
-  const double nm_per_unit = units.concentration == "pM" ? 1e-3 : (units.concentration == "uM" ? 1e3 : 1.0);
-  const double um = units.micrometres();
-  return 1.0 / 0.602214076 / nm_per_unit / (um * um * um);
-}
-
 std::string Units::describe() const {
   return fmt::format("length {}, time {}, concentration {}", length, time, concentration);
 }
@@ -682,19 +305,6 @@ const char* name_of(core::AxonStatus v) {
 }
 
 json scene_to_json(const Scene& s) {
-  auto source_json = [](const Source& src) {
-    json j;
-    j["kind"] = name_of(src.kind);
-    j["position"] = src.position ? json::array({src.position->x, src.position->y, src.position->z})
-                                 : json(nullptr);
-    j["emission"] = src.emission;
-    j["diffusion"] = src.diffusion;
-    j["decay"] = src.decay;
-    j["kd"] = src.kd;
-    j["min_concentration"] = src.min_concentration;
-    j["max_concentration"] = src.max_concentration;
-    return j;
-  };
   json j;
   j["seed"] = s.seed;
   j["steps"] = s.steps;
@@ -715,71 +325,33 @@ json scene_to_json(const Scene& s) {
                       {"radius", p.radius}});
     j["neurons"]["populations"] = pops;
   }
-  const auto& a = s.axons;
-  j["axons"] = {{"step_length", a.growth_speed ? json(nullptr) : json(a.step_length)},
-                {"growth_speed", a.growth_speed ? json(*a.growth_speed) : json(nullptr)},
-                {"persistence_length", a.persistence_length ? json(*a.persistence_length) : json(nullptr)},
-                {"growth_modulation", a.growth_modulation},
-                {"contact_distance", a.contact_distance},
-                {"contact", name_of(a.contact)},
-                {"bounds_radius", a.bounds_radius ? json(*a.bounds_radius) : json(nullptr)}};
-  const auto& g = s.guidance;
-  j["guidance"] = {{"model", name_of(g.model)},          {"noise", name_of(g.noise)},
-                   {"turn_angle", g.turn_angle},
-                   {"gain", g.gain},                      {"vector_weight", g.vector_weight},
-                   {"growth_cone_width", g.growth_cone_width}, {"sensing_radius", g.sensing_radius}};
-  const auto& c = s.cues;
-  json sources = json::array();
-  for (const auto& src : canonical_sources(c.sources)) sources.push_back(source_json(src));
-  const auto& rs = c.random_sources;
-  j["cues"] = {{"field", name_of(c.field)},
-               {"warmup_steps", c.warmup_steps},
-               {"sources", sources},
-               {"random_sources", {{"count", rs.count}, {"attractant_fraction", rs.attractant_fraction},
-                                   {"emission", rs.emission}, {"diffusion", rs.diffusion},
-                                   {"decay", rs.decay}, {"kd", rs.kd}}},
-               {"particles", {{"amount", c.particles.amount},
-                              {"motion", name_of(c.particles.motion)},
-                              {"collisions", c.particles.collisions}, {"speed", c.particles.speed},
-                              {"damping", c.particles.damping}, {"radius", c.particles.radius},
-                              {"stiffness", c.particles.stiffness}}},
-               {"grid", {{"spacing", c.grid.spacing ? json(*c.grid.spacing) : json(nullptr)}, {"scheme", name_of(c.grid.scheme)},
-                         {"boundary", name_of(c.grid.boundary)},
-                         {"allow_substeps", c.grid.allow_substeps}}},
-               {"imposed", {{"profile", name_of(c.imposed.profile)},
-                            {"direction", json::array({c.imposed.direction.x, c.imposed.direction.y, c.imposed.direction.z})},
-                            {"steepness", c.imposed.steepness}, {"reference_length", c.imposed.reference_length},
-                            {"concentration", c.imposed.concentration}}}};
+  // Each component writes its keys into the section that holds them. Keys added after the
+  // golden networks were blessed appear only when set, so that a scene that does not use
+  // them keeps its canonical form (and hash).
+  json& axons = j["axons"];
+  write_growth_keys(s.axons, axons);
+  write_wander_keys(s.axons, axons);
+  write_modulation_keys(s.axons, axons);
+  write_signalling_keys(s.axons, axons);
+  json& guidance = j["guidance"];
+  write_steering_keys(s.guidance, guidance);
+  write_sensing_keys(s.guidance, guidance);
+  json& cues = j["cues"];
+  write_cue_keys(s.cues, cues);
+  write_molecule_keys(s.cues, cues);
+  write_particle_keys(s.cues.particles, cues["particles"]);
+  write_grid_keys(s.cues.grid, cues);
   j["analysis"] = {{"bfs_sources", s.analysis.bfs_sources}, {"components", s.analysis.components}};
   j["output"] = {{"paths", s.output.paths}, {"stats_every", s.output.stats_every},
                  {"vtk", s.output.vtk}, {"frames_every", s.output.frames_every}};
   // Written only when given, so the bytes of older scenes (and their hashes) stay.
   if (s.output.checkpoint_every != 0) j["output"]["checkpoint_every"] = s.output.checkpoint_every;
   if (s.output.checkpoint_seconds) j["output"]["checkpoint_seconds"] = *s.output.checkpoint_seconds;
-  // Keys added after the golden networks were blessed appear only when set, so that a
-  // scene that does not use them keeps its canonical form (and hash).
   if (s.output.swc) j["output"]["swc"] = true;
   if (s.output.sonata) j["output"]["sonata"] = true;
   if (!s.output.csv) j["output"]["csv"] = false;
   if (s.output.graphml) j["output"]["graphml"] = *s.output.graphml;
   if (s.output.conduction_speed) j["output"]["conduction_speed"] = *s.output.conduction_speed;
-  if (c.molecule_amount) j["cues"]["molecule_amount"] = *c.molecule_amount;
-  if (c.particles.molecules) j["cues"]["particles"]["molecules"] = true;
-  if (c.particles.estimate.spacing) j["cues"]["particles"]["estimate"]["spacing"] = *c.particles.estimate.spacing;
-  if (c.particles.estimate.time) j["cues"]["particles"]["estimate"]["time"] = *c.particles.estimate.time;
-  if (c.grid.substeps) j["cues"]["grid"]["substeps"] = *c.grid.substeps;
-  if (s.signalling()) {
-    const auto& q = s.axons.signalling;
-    j["axons"]["growth_model"] = name_of(s.axons.growth_model);
-    json sg = {{"cue", q.cue}, {"inhibition", q.population ? "population" : "soma"}, {"substeps", q.substeps}};
-    if (q.halvings != static_cast<std::uint32_t>(core::kSignalHalvings)) sg["halvings"] = q.halvings;
-    for (std::size_t k = 0; k < kSignalParameters; ++k) {
-      const SignalParameter& p = kSignalTable[k];
-      if (q.given[k]) sg[p.name] = signal_value_json(*q.given[k], p);
-      else sg[p.name] = p.derived ? json(nullptr) : signal_value_json(p.value, p);
-    }
-    j["axons"]["signalling"] = sg;
-  }
   return j;
 }
 

@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "axonguide/core/pmath.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/cues.hpp"
 #include "axonguide/placement/placement.hpp"
 
 namespace axg::assay {

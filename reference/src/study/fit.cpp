@@ -16,7 +16,7 @@
 #include "axonguide/core/rosenbrock.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/scene/json_input.hpp"
-#include "axonguide/model/signalling_setup.hpp"
+#include "axonguide/model/signalling.hpp"
 #include "axonguide/study/sweep.hpp"
 
 namespace axg::fit {

@@ -10,6 +10,7 @@
 #include "axonguide/core/cellgrid.hpp"
 #include "axonguide/core/cues.hpp"
 #include "axonguide/core/growth.hpp"
+#include "axonguide/core/guide.hpp"
 #include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/wander.hpp"
@@ -71,6 +72,8 @@ struct GrowthCounts {
 class AxonStages {
  public:
   explicit AxonStages(const Scene& scene);
+  AxonStages(const AxonStages&) = delete;  // guide_ points into cues_
+  AxonStages& operator=(const AxonStages&) = delete;
 
   // Stage 2: every listed axon samples every cue at its tip and makes its one turn (and,
   // with growth-rate modulation, sets its step length; with the signalling model,
@@ -110,14 +113,10 @@ class AxonStages {
   core::WanderParams wander_;
   bool modulated_;
   bool signalling_;
-  core::SignallingParams signal_params_{};
-  int signal_cue_ = 0, signal_substeps_ = 1, signal_halvings_ = core::kSignalHalvings;
   bool population_inhibition_ = true;
-  double dt_ = 1.0;
   std::vector<Population> populations_;
   std::vector<core::CueParams> cues_;
-  core::SenseParams sense_;
-  core::SteerParams steer_;
+  core::GuideParams guide_;  // its cue pointer is cues_' data
 };
 
 }  // namespace axg

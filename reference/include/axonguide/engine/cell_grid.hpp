@@ -22,6 +22,11 @@ struct GridGeometry {
 // max_cells cells (the edge grows to respect it).
 GridGeometry cube_geometry(double half, double min_cell, double max_cells);
 
+struct Scene;
+// The soma grid covers the region; cells are at least one contact diameter wide and
+// about one per neuron, so a step visits a handful of cells.
+GridGeometry soma_grid_geometry(const Scene& s);
+
 struct CellGrid {
   GridGeometry geometry;
   std::vector<std::uint32_t> cell_start;  // cells + 1

@@ -8,7 +8,8 @@
 
 #include "axonguide/core/estimate.hpp"
 #include "axonguide/core/particles.hpp"
-#include "axonguide/model/cue_setup.hpp"
+#include "axonguide/model/estimate.hpp"
+#include "axonguide/model/particles.hpp"
 #include "axonguide/support/radix_sort.hpp"
 
 namespace axg {

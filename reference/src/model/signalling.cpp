@@ -1,4 +1,4 @@
-#include "axonguide/model/signalling_setup.hpp"
+#include "axonguide/model/signalling.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -8,8 +8,10 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/support/error.hpp"
+#include "axonguide/core/cues.hpp"
+#include "axonguide/scene/reader.hpp"
 #include "axonguide/scene/scene.hpp"
+#include "axonguide/support/error.hpp"
 
 namespace axg {
 
@@ -153,6 +155,63 @@ double read_signal_value(const json& v, const std::string& path, const SignalPar
 json signal_value_json(double value, const SignalParameter& p) {
   if (p.dim == SignalDim::kCount) return value;
   return fmt::format("{} {}", value, canonical_unit(p.dim));
+}
+
+void read_signalling_keys(ObjectReader& r, SignallingKeys& a) {
+  r.choice("growth_model", a.growth_model, {{"constant", GrowthModel::kConstant}, {"signalling", GrowthModel::kSignalling}});
+  const json* sg = r.take("signalling");
+  if (!sg) return;
+  ObjectReader rr(*sg, "axons.signalling");
+  auto& q = a.signalling;
+  rr.integer("cue", q.cue, 0, static_cast<std::uint64_t>(core::kMaxCues - 1));
+  rr.choice("inhibition", q.population, {{"population", true}, {"soma", false}});
+  rr.integer("substeps", q.substeps, 1, 100000);
+  rr.integer("halvings", q.halvings, 0, 20);
+  for (std::size_t k = 0; k < kSignalParameters; ++k) {
+    const SignalParameter& p = kSignalTable[k];
+    if (const json* v = rr.take(p.name)) {
+      if (v->is_null() && p.derived) q.given[k].reset();
+      else q.given[k] = read_signal_value(*v, rr.path(p.name), p);
+    }
+  }
+  rr.finish();
+}
+
+void write_signalling_keys(const SignallingKeys& a, json& j) {
+  if (a.growth_model != GrowthModel::kSignalling) return;
+  const auto& q = a.signalling;
+  j["growth_model"] = name_of(a.growth_model);
+  json sg = {{"cue", q.cue}, {"inhibition", q.population ? "population" : "soma"}, {"substeps", q.substeps}};
+  if (q.halvings != static_cast<std::uint32_t>(core::kSignalHalvings)) sg["halvings"] = q.halvings;
+  for (std::size_t k = 0; k < kSignalParameters; ++k) {
+    const SignalParameter& p = kSignalTable[k];
+    if (q.given[k]) sg[p.name] = signal_value_json(*q.given[k], p);
+    else sg[p.name] = p.derived ? json(nullptr) : signal_value_json(p.value, p);
+  }
+  j["signalling"] = sg;
+}
+
+void check_signalling(const Scene& s) {
+  if (!s.signalling()) return;
+  const auto& u = s.units;
+  if (u.length != "um" || u.time == "step" || u.concentration == "CU")
+    throw InputError(fmt::format(
+        "scene: axons.growth_model = \"signalling\" needs physical units (units.length \"um\", units.time \"s\", "
+        "\"min\" or \"h\", units.concentration \"pM\", \"nM\" or \"uM\"): its rate constants are per time and per "
+        "concentration; the scene has {}",
+        u.describe()));
+  if (s.axons.growth_modulation > 0.0)
+    throw InputError(fmt::format(
+        "scene: axons.growth_modulation = {} with axons.growth_model = \"signalling\": both would set the step length; "
+        "the signalling model sets it, so growth_modulation must be 0",
+        s.axons.growth_modulation));
+  if (s.source_count() == 0)
+    throw InputError("scene: axons.growth_model = \"signalling\" needs a cue source (cues.sources or "
+                     "cues.random_sources): its receptors read the concentration of cue axons.signalling.cue");
+  if (s.axons.signalling.cue >= s.source_count())
+    throw InputError(fmt::format("scene: axons.signalling.cue = {}: the scene has {} cue source(s), numbered 0 to {} in "
+                                 "the canonical order",
+                                 s.axons.signalling.cue, s.source_count(), s.source_count() - 1));
 }
 
 core::SignallingParams signalling_params(const Scene& scene) {

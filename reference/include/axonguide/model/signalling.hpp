@@ -1,20 +1,23 @@
 #pragma once
-// The growth-cone signalling model's parameters (SPEC §3.7, docs/methods.md §2.10): their
-// names, units and defaults (Bicknell, Pujic, Dayan & Goodhill 2018, Table 1), reading a
-// value with its unit, and the conversion to the scene's units that the core functions
-// get. Shared by every backend.
+// The growth-cone signalling model (SPEC §3.7, docs/methods.md §2.10): the keys
+// axons.growth_model and axons.signalling, the parameters' names, units and defaults
+// (Bicknell, Pujic, Dayan & Goodhill 2018, Table 1), reading a value with its unit, and the
+// conversion to the scene's units that core/signalling.hpp gets. Shared by every backend.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "axonguide/core/signalling.hpp"
+#include "axonguide/core/types.hpp"
 
 namespace axg {
 
 struct Scene;
+class ObjectReader;
 
 // What a parameter is measured in. Counts are plain numbers; everything else is a string
 // "<number> <unit>" with a unit of its dimension.
@@ -36,6 +39,29 @@ struct SignalParameter {
 
 inline constexpr std::size_t kSignalParameters = 33;
 extern const std::array<SignalParameter, kSignalParameters> kSignalTable;
+
+// axons.growth_model, and axons.signalling: the model's cue, inhibition, sub-steps and the
+// values given in the scene.
+struct SignallingKeys {
+  // A constant step length, or the growth-cone signalling network of Bicknell et al. 2018
+  // (core/signalling.hpp), whose output sets each axon's extension.
+  core::GrowthModel growth_model = core::GrowthModel::kConstant;
+  struct Signalling {
+    std::uint32_t cue = 0;       // the cue whose concentration drives the receptors
+    bool population = true;      // inhibition: the population's mean (true) or the soma's own
+    std::uint32_t substeps = 1;  // ROS2 steps per growth step
+    std::uint32_t halvings = 10; // a failed sub-step is halved up to this often (core::kSignalHalvings)
+    // Values given in the scene, in Table 1's units (per minute, per nM per minute, um per
+    // minute, counts), by kSignalTable's index; nullopt: Table 1's (or derived).
+    std::array<std::optional<double>, kSignalParameters> given{};
+  } signalling;
+};
+
+void read_signalling_keys(ObjectReader& axons, SignallingKeys& keys);
+// Written only for the signalling model (older scenes keep their canonical form).
+void write_signalling_keys(const SignallingKeys& keys, nlohmann::json& axons);
+// Physical units, a cue, no growth-rate modulation.
+void check_signalling(const Scene& scene);
 
 // The canonical unit of a dimension ("/min", "/nM/min", "um/min"; "" for counts).
 const char* canonical_unit(SignalDim d);

@@ -1,4 +1,5 @@
-// The grid field over ranks (fields.hpp; docs/scaling.md §2.4): a rank owns the z-planes of
+// The grid field over ranks (fields.hpp; docs/scaling.md §2.4), the hooks of GridFieldStages
+// (fields/grid_stages.hpp, which writes the step once): a rank owns the z-planes of
 // its slab, [z0, z1), and stores [z0 - 3, z1 + 3) clamped to the grid. Every owned node is
 // computed by the one-process expression from the same values:
 //  - sources: the core deposit's eight nodes, each added by its plane's owner;
@@ -27,6 +28,7 @@
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/on_every_rank.hpp"
 #include "axonguide/support/error.hpp"
+#include "axonguide/fields/grid_stages.hpp"
 #include "axonguide/fields/lod.hpp"
 
 namespace axg::distributed {
@@ -35,90 +37,67 @@ namespace {
 
 inline constexpr int kGhosts = 3;  // ghost planes each side for sensing (the stencil needs 1)
 
-class DecomposedGridField final : public CueField {
+// The planes rank r owns: those whose z coordinate falls in its slab (monotone in the
+// plane: slabs are ranges); rank r owns [first[r], first[r + 1]).
+std::vector<int> slab_starts(const Scene& scene, const Decomposition& d, int ranks) {
+  const GridGeometry3 g = grid_field_geometry(scene);
+  const int n = g.n;
+  std::vector<int> first(static_cast<std::size_t>(ranks) + 1, n);
+  for (int r = 0; r < ranks; ++r) {
+    int lo = n;
+    for (int k = 0; k < n; ++k)
+      if (d.owner({0.0, 0.0, g.origin.z + g.h * k}) >= r) {
+        lo = k;
+        break;
+      }
+    first[static_cast<std::size_t>(r)] = lo;
+  }
+  first[static_cast<std::size_t>(ranks)] = n;
+  return first;
+}
+
+GridFieldStages::Slab rank_slab(const std::vector<int>& first, int rank, int n) {
+  const int z0 = first[static_cast<std::size_t>(rank)], z1 = first[static_cast<std::size_t>(rank) + 1];
+  return {z0, z1, std::max(0, z0 - kGhosts), std::min(n, z1 + kGhosts)};
+}
+
+class DecomposedGridField final : public GridFieldStages {
  public:
   DecomposedGridField(const Scene& scene, const std::vector<core::CueParams>& cues, const Decomposition& d,
-                      Comm& comm, FieldReport& report)
-      : cues_(cues),
-        geometry_(grid_field_geometry(scene)),
-        scheme_(scene.cues.grid.scheme),
-        reflecting_(scene.cues.grid.boundary == GridBoundary::kReflecting),
-        dt_(scene.dt),
-        amount_(scene.cues.particles.amount),
-        note_(grid_field_note(scene, cues)),
+                      Comm& comm, FieldReport& report, std::vector<int> first)
+      : GridFieldStages(scene, cues, rank_slab(first, comm.rank(), grid_field_geometry(scene).n)),
         comm_(comm),
         rank_(comm.rank()),
         ranks_(comm.size()),
-        report_(report) {
+        report_(report),
+        first_(std::move(first)),
+        z0_(slab_.z0),
+        z1_(slab_.z1) {
     if (!d.slabs) throw RunError("decomposed grid field: the decomposition is not in slabs along z");
-    const int n = geometry_.n;
-    // Plane k belongs to the slab its z coordinate falls in (monotone in k: slabs are
-    // ranges); rank r owns [first_[r], first_[r + 1]).
-    first_.assign(static_cast<std::size_t>(ranks_) + 1, n);
-    for (int r = 0; r < ranks_; ++r) {
-      int lo = n;
-      for (int k = 0; k < n; ++k)
-        if (d.owner({0.0, 0.0, geometry_.origin.z + geometry_.h * k}) >= r) {
-          lo = k;
-          break;
-        }
-      first_[static_cast<std::size_t>(r)] = lo;
-    }
-    first_[static_cast<std::size_t>(ranks_)] = n;
-    z0_ = first_[static_cast<std::size_t>(rank_)];
-    z1_ = first_[static_cast<std::size_t>(rank_) + 1];
     for (int r = 0; r < ranks_; ++r)
       if (first_[static_cast<std::size_t>(r) + 1] - first_[static_cast<std::size_t>(r)] < kGhosts && ranks_ > 1)
         throw RunError("decomposed grid field: a slab holds fewer planes than its ghost layers (the halo rule "
                        "keeps slabs three planes thick; this is a bug)");
-    g0_ = std::max(0, z0_ - kGhosts);
-    g1_ = std::min(n, z1_ + kGhosts);
-    plane_ = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-    slab_ = static_cast<std::size_t>(g1_ - g0_) * plane_;
-    buffer_[0].assign(cues_.size() * slab_, 0.0);
-    cur_.assign(cues_.size(), 0);
-    if (scheme_ == GridScheme::kExplicit) buffer_[1].assign(cues_.size() * slab_, 0.0);
-    for (const auto& cue : cues_) substeps_.push_back(grid_substeps(scene, cue));
     if (rank_ > 0) peers_.push_back(rank_ - 1);
     if (rank_ + 1 < ranks_) peers_.push_back(rank_ + 1);
     if (peers_ != d.neighbours(rank_)) throw RunError("decomposed grid field: slab neighbours are not r - 1, r + 1");
     // Batches of y for the pipelined z sweep: four a rank, so that the pipeline idles for
     // (K - 1) / (4K + K - 1) of its stages.
-    batches_ = ranks_ == 1 ? 1 : std::min(n, 4 * ranks_);
-  }
-
-  void advance(std::uint32_t step, PhaseTimes& times) override {
-    {
-      ScopedPhase p(times, step, scheme_ == GridScheme::kExplicit ? "grid.explicit" : "grid.implicit");
-      for (std::size_t k = 0; k < cues_.size(); ++k) {
-        if (scheme_ == GridScheme::kExplicit) explicit_step(k, step);
-        else implicit_step(k, step);
-      }
-    }
-    ScopedPhase p(times, step, "grid.ghosts");
-    for (std::size_t k = 0; k < cues_.size(); ++k) exchange_ghosts(values(k, cur_[k]), kGhosts);
-  }
-
-  void sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const override {
-    core::GridFieldSet set{geometry_.origin, geometry_.h, geometry_.n, {}, g0_};
-    for (std::size_t k = 0; k < cues_.size(); ++k) set.c[k] = buffer_[cur_[k]].data() + k * slab_;
-    core::sample_grid_field(x, set, cues_.data(), static_cast<int>(cues_.size()), samples, pull);
+    batches_ = ranks_ == 1 ? 1 : std::min(geometry_.n, 4 * ranks_);
   }
 
   std::size_t bytes() const override {
     std::size_t ghosts = 0;
     for (const Bytes& b : ghost_out_) ghosts += b.capacity();
     for (const Bytes& b : ghost_in_) ghosts += b.capacity();
-    return (buffer_[0].size() + buffer_[1].size() + cp_.size() + dp_.size()) * sizeof(double) + ghosts;
+    return buffer_bytes() + (cp_.size() + dp_.size()) * sizeof(double) + ghosts;
   }
-
-  std::string note() const override { return note_; }
 
   // Collective: rank 0 receives every cue's current values, node order.
   void save(EngineState& out) const override {
     Bytes mine;
     for (std::size_t k = 0; k < cues_.size(); ++k)
-      append(mine, buffer_[cur_[k]].data() + k * slab_ + local(z0_), static_cast<std::size_t>(z1_ - z0_) * plane_);
+      append(mine, buffer_[cur_[k]].data() + k * slab_values_ + local(z0_), static_cast<std::size_t>(z1_ - z0_) * plane_);
     std::vector<Bytes> all = comm_.gather(std::move(mine));
     if (!comm_.root()) return;
     const std::size_t nodes = geometry_.nodes();
@@ -142,17 +121,22 @@ class DecomposedGridField final : public CueField {
                        std::to_string(cues_.size() * nodes));
     });
     for (std::size_t k = 0; k < cues_.size(); ++k)
-      std::copy_n(in.grid.data() + k * nodes + static_cast<std::size_t>(g0_) * plane_, slab_,
-                  buffer_[0].data() + k * slab_);
+      std::copy_n(in.grid.data() + k * nodes + static_cast<std::size_t>(slab_.g0) * plane_, slab_values_,
+                  buffer_[0].data() + k * slab_values_);
     cur_.assign(cues_.size(), 0);
   }
 
  private:
-  std::size_t local(int plane) const { return static_cast<std::size_t>(plane - g0_) * plane_; }
-  double* values(std::size_t k, int buffer) { return buffer_[buffer].data() + k * slab_; }
+  // The ghost planes sensing reads: a tip of the slab reads the planes of its cell and one
+  // more each way (the centred differences), two beyond the slab; a third covers a tip within
+  // rounding of a slab face that lies on a plane.
+  void stepped(std::uint32_t step, PhaseTimes& times) override {
+    ScopedPhase p(times, step, "grid.ghosts");
+    for (std::size_t k = 0; k < cues_.size(); ++k) exchange_ghosts(values(k, cur_[k]), kGhosts);
+  }
 
   // `width` planes each side from the neighbours' owned planes.
-  void exchange_ghosts(double* c, int width) {
+  void exchange_ghosts(double* c, int width) override {
     if (ranks_ == 1) return;
     const Traffic before = comm_.traffic();
     std::vector<Bytes>& out = ghost_out_;
@@ -179,60 +163,9 @@ class DecomposedGridField final : public CueField {
     report_.ghost_values += planes * plane_;
   }
 
-  // The one-process deposit's nodes that lie in this rank's planes.
-  void add_source(std::size_t k, std::uint32_t step, double fraction) {
-    const double total = amount_ * core::emitted_at(cues_[k].emission, step) * fraction;
-    if (total == 0.0) return;
-    const core::SourceDeposit d =
-        core::source_deposit(cues_[k].position, total, geometry_.origin, geometry_.h, geometry_.n);
-    double* c = values(k, cur_[k]);
-    for (int m = 0; m < 8; ++m) {
-      const int plane = static_cast<int>(d.index[m] / plane_);
-      if (plane >= z0_ && plane < z1_) c[d.index[m] - static_cast<std::size_t>(g0_) * plane_] += d.value[m];
-    }
-  }
-
-  void explicit_step(std::size_t k, std::uint32_t step) {
-    const std::uint32_t m = substeps_[k];
-    core::StencilParams s = stencil_params(geometry_, cues_[k], dt_ / m, reflecting_);
-    s.k0 = g0_;
-    const int n = geometry_.n;
-    for (std::uint32_t sub = 0; sub < m; ++sub) {
-      add_source(k, step, 1.0 / m);
-      exchange_ghosts(values(k, cur_[k]), 1);
-      const double* in = values(k, cur_[k]);
-      double* out = values(k, 1 - cur_[k]);
-      const int rows = (z1_ - z0_) * n;
-      tbb::parallel_for(tbb::blocked_range<int>(0, rows), [&](const tbb::blocked_range<int>& r) {
-        for (int row = r.begin(); row != r.end(); ++row) {
-          const int zk = z0_ + row / n, yj = row % n;
-          double* o = out + local(zk) + static_cast<std::size_t>(yj) * static_cast<std::size_t>(n);
-          for (int xi = 0; xi < n; ++xi) o[xi] = core::ftcs_node(in, xi, yj, zk, s);
-        }
-      });
-      cur_[k] = 1 - cur_[k];
-    }
-  }
-
-  void implicit_step(std::size_t k, std::uint32_t step) {
-    const std::uint32_t m = substeps_[k];
-    const core::StencilParams s = stencil_params(geometry_, cues_[k], dt_ / m, reflecting_);
-    const double keep = 1.0 / (1.0 + s.decay_dt);
-    double* c = values(k, 0);
-    double* mine = c + local(z0_);
-    const std::size_t owned = static_cast<std::size_t>(z1_ - z0_) * plane_;
-    for (std::uint32_t sub = 0; sub < m; ++sub) {
-      add_source(k, step, 1.0 / m);
-      lod_sweep_x(mine, geometry_.n, z1_ - z0_, s.lambda, reflecting_);
-      lod_sweep_y(mine, geometry_.n, z1_ - z0_, s.lambda, reflecting_);
-      sweep_z(c, s.lambda);
-      tbb::parallel_for(std::size_t{0}, owned, [&](std::size_t i) { mine[i] = mine[i] * keep; });
-    }
-  }
-
   // The z sweep of lines crossing the slabs: rows [a, b] of this rank's unknown rows, the
   // lines in batches of y.
-  void sweep_z(double* c, double lambda) {
+  void sweep_z(double* c, double lambda) override {
     const int n = geometry_.n;
     const std::size_t nn = static_cast<std::size_t>(n);
     const core::LodLine l = core::lod_line(n, lambda, reflecting_);
@@ -322,24 +255,13 @@ class DecomposedGridField final : public CueField {
     }
   }
 
-  std::vector<core::CueParams> cues_;
-  GridGeometry3 geometry_;
-  GridScheme scheme_;
-  bool reflecting_;
-  double dt_, amount_;
-  std::string note_;
   Comm& comm_;
   int rank_, ranks_;
   FieldReport& report_;
   std::vector<int> first_;  // rank r owns planes [first_[r], first_[r + 1])
   int z0_ = 0, z1_ = 0;     // this rank's planes
-  int g0_ = 0, g1_ = 0;     // the planes stored (ghosts included)
-  std::size_t plane_ = 0, slab_ = 0;
   std::vector<int> peers_;  // rank - 1, rank + 1 where they exist
   int batches_ = 1;
-  std::vector<double> buffer_[2];
-  std::vector<int> cur_;
-  std::vector<std::uint32_t> substeps_;
   std::vector<double> cp_, dp_;  // the z sweep's (c', d') of this rank's rows
   std::vector<Bytes> ghost_out_, ghost_in_;  // the ghost exchange's buffers, kept from step to step
 };
@@ -348,7 +270,7 @@ class DecomposedGridField final : public CueField {
 
 std::unique_ptr<CueField> make_decomposed_grid_field(const Scene& scene, const std::vector<core::CueParams>& cues,
                                                      const Decomposition& d, Comm& comm, FieldReport& report) {
-  return std::make_unique<DecomposedGridField>(scene, cues, d, comm, report);
+  return std::make_unique<DecomposedGridField>(scene, cues, d, comm, report, slab_starts(scene, d, comm.size()));
 }
 
 }  // namespace axg::distributed

@@ -58,21 +58,12 @@ void merge_runs(std::vector<T>& v, const std::vector<std::size_t>& ends) {
                        v.begin() + static_cast<std::ptrdiff_t>(ends[k]), by_id);
 }
 
-class DecomposedParticleField final : public CueField {
+class DecomposedParticleField final : public ParticleFieldStages {
  public:
   DecomposedParticleField(const Scene& scene, const std::vector<core::CueParams>& cues, const Decomposition& d,
                           Comm& comm, FieldReport& report)
-      : seed_(scene.seed),
-        cues_(cues),
-        sense_(sense_params(scene)),
-        params_(particle_params(scene)),
-        geometry_(particle_hash_geometry(scene)),
-        ballistic_(scene.cues.particles.motion == Motion::kBallistic),
-        use_grid_(particle_grid_used(scene)),
-        gathers_(sense_params(scene).sensing != core::ParticleSensing::kEstimate),
-        use_estimate_(particle_estimate_used(scene)),
-        mesh_(estimate_geometry(scene)),
-        estimate_params_(estimate_params(scene)),
+      : ParticleFieldStages(scene, cues),
+        gathers_(sense_.sensing != core::ParticleSensing::kEstimate),
         d_(d),
         comm_(comm),
         rank_(comm.rank()),
@@ -89,56 +80,7 @@ class DecomposedParticleField final : public CueField {
       for (int r = 0; r < d.ranks; ++r)
         if (bounds_[static_cast<std::size_t>(r)].near(cue.position, d.halo)) makers_.back().push_back(r);
     }
-    grid_.reserve_starts(geometry_, use_grid_);
-    if (use_estimate_) {
-      estimate_.assign(2 * cues_.size() * mesh_.nodes, 0.0);
-      deposit_.assign(estimate_.size(), 0);
-    }
   }
-
-  void advance(std::uint32_t step, PhaseTimes& times) override {
-    {
-      ScopedPhase p(times, step, "particles.emit");
-      emit(step);
-    }
-    {
-      ScopedPhase p(times, step, "particles.move");
-      move_particles(seed_, step, cues_, params_, ballistic_, pos_, vel_, id_, source_, keep_);
-    }
-    {
-      ScopedPhase p(times, step, "particles.migrate");  // the dead dropped in the same pass
-      redistribute(use_grid_, &keep_);
-    }
-    if (use_grid_) {
-      ScopedPhase p(times, step, "particles.grid");
-      build_local();
-      grid_.build(geometry_, local_pos_, local_source_);
-    }
-    if (params_.collisions) {
-      ScopedPhase p(times, step, "particles.collide");
-      collide();
-      redistribute(gathers_);  // the one-process grid after the collisions is read only by gathers
-      if (gathers_) {
-        build_local();
-        grid_.build(geometry_, local_pos_, local_source_);
-      }
-    }
-    if (use_estimate_) {
-      ScopedPhase p(times, step, "particles.estimate");
-      deposit_particles(mesh_, cues_.size(), pos_, id_, source_, deposit_);  // this rank's particles
-      if (comm_.size() > 1) comm_.allreduce(deposit_, Reduce::kSum);          // exact integer sums
-      fold_estimate(step, estimate_params_, estimate_, deposit_);
-    }
-    report_.owned_particles += pos_.size();
-  }
-
-  void sample(Vec3 x, core::CueSample* samples, Vec3* pull) const override {
-    core::sample_particle_field(x, grid_.view(geometry_), estimate_set(), cues_.data(), static_cast<int>(cues_.size()), sense_,
-                                samples, pull);
-  }
-
-  // This rank's particles (the engine sums them over the ranks).
-  std::uint64_t particles() const override { return pos_.size(); }
 
   // Collective: every particle, in id order, on rank 0.
   void snapshot(std::vector<Vec3>& pos, std::vector<std::uint16_t>& cue) const override {
@@ -215,9 +157,8 @@ class DecomposedParticleField final : public CueField {
   }
 
   std::size_t bytes() const override {
-    return pos_.capacity() * 24 + vel_.capacity() * 24 + id_.capacity() * 8 + source_.capacity() * 2 +
-           keep_.capacity() + local_pos_.capacity() * 24 + local_source_.capacity() * 2 + local_slot_.capacity() * 4 +
-           grid_.bytes() + estimate_.capacity() * 8 + deposit_.capacity() * 8 + buffers_bytes();
+    return state_bytes() + local_pos_.capacity() * 24 + local_source_.capacity() * 2 + local_slot_.capacity() * 4 +
+           buffers_bytes();
   }
 
  private:
@@ -231,32 +172,37 @@ class DecomposedParticleField final : public CueField {
     return n;
   }
 
-  core::EstimateSet estimate_set() const {
-    core::EstimateSet e = mesh_;
-    e.c = estimate_.data();
-    return e;
-  }
-
   // Every rank counts every emission (the ids). The ranks whose blocks lie within the halo
   // of a source share its new particles by id (particle id goes to makers[id mod m]): a
   // particle's motion is a function of (seed, id, step, state), so any rank may make and
   // move it, and the migration that follows gives it to its owner. A source on a cut (the
   // centre of a domain cut in halves) would otherwise load its owner alone with every new
   // particle's first move.
-  void emit(std::uint32_t step) {
-    for (std::size_t k = 0; k < cues_.size(); ++k) {
-      const std::uint32_t count = core::emitted_at(cues_[k].emission, step);
-      const std::vector<int>& makers = makers_[k];
-      for (std::uint32_t j = 0; j < count; ++j) {
-        const std::uint64_t id = next_id_++;
-        if (makers[id % makers.size()] != rank_) continue;
-        pos_.push_back(cues_[k].position);
-        id_.push_back(id);
-        source_.push_back(static_cast<std::uint16_t>(k));
-        if (ballistic_) vel_.push_back(core::birth_velocity(seed_, id, step, params_));
-      }
-    }
+  bool makes(std::uint64_t id, std::size_t cue) const override {
+    const std::vector<int>& makers = makers_[cue];
+    return makers[id % makers.size()] == rank_;
   }
+
+  const char* settle_phase() const override { return "particles.migrate"; }  // the dead dropped in the same pass
+  void settle() override { redistribute(use_grid_, &keep_); }
+
+  void build_grid() override {
+    build_local();
+    grid_.build(geometry_, local_pos_, local_source_);
+  }
+
+  // The one-process grid after the collisions is read only by gathers.
+  void collide() override {
+    push_apart();
+    redistribute(gathers_);
+    if (gathers_) build_grid();
+  }
+
+  void reduce_deposits() override {
+    if (comm_.size() > 1) comm_.allreduce(deposit_, Reduce::kSum);  // exact integer sums
+  }
+
+  void stepped() override { report_.owned_particles += pos_.size(); }
 
   // After a move or a collision push, in one neighbour exchange: the particles that left
   // this block go to their new owner and, when gathers read particles (with_halo), every
@@ -415,7 +361,7 @@ class DecomposedParticleField final : public CueField {
 
   // Jacobi, as in one process: every particle of this block reads the positions before the
   // collisions (its own and the halo's) and writes its own.
-  void collide() {
+  void push_apart() {
     const core::HashGridView g = grid_.view(geometry_);
     tbb::parallel_for(std::size_t{0}, pos_.size(), [&](std::size_t i) {
       const std::uint32_t slot = local_slot_[i];
@@ -426,17 +372,7 @@ class DecomposedParticleField final : public CueField {
     });
   }
 
-  std::uint64_t seed_;
-  std::vector<core::CueParams> cues_;
-  core::SenseParams sense_;
-  core::ParticleParams params_;
-  HashGeometry geometry_;
-  bool ballistic_;
-  bool use_grid_;      // the hashed grid: collisions and gathers
-  bool gathers_;       // growth cones gather the particles within r (not the estimate)
-  bool use_estimate_;  // the estimate meshes
-  core::EstimateSet mesh_;
-  EstimateParams estimate_params_;
+  bool gathers_;  // growth cones gather the particles within r (not the estimate)
   const Decomposition& d_;
   Comm& comm_;
   int rank_;
@@ -446,20 +382,13 @@ class DecomposedParticleField final : public CueField {
   double inner_margin_;       // LU: Bounds::inner's margin (the decomposition's halo, at least width_)
   double rounding_margin_;    // LU: within the block by more than this, a particle is this rank's
   FieldReport& report_;
-  std::uint64_t next_id_ = 0;
-  // This rank's particles, in id order.
-  std::vector<Vec3> pos_, vel_;
-  std::vector<std::uint64_t> id_;
-  std::vector<std::uint16_t> source_;
-  std::vector<std::uint8_t> keep_;
   std::vector<Vec3> pos_scratch_, vel_scratch_;
   std::vector<std::uint64_t> id_scratch_;
   std::vector<std::uint16_t> source_scratch_;
-  // This rank's and the halo's particles, in id order, and the hashed grid over them.
+  // This rank's and the halo's particles, in id order, which the hashed grid is built over.
   std::vector<Vec3> local_pos_;
   std::vector<std::uint16_t> local_source_;
   std::vector<std::uint32_t> local_slot_;
-  ParticleHashGrid grid_;
   // The exchanges' buffers, kept from step to step (their capacity is memory already
   // touched; fresh buffers each step made page faults the halo's largest cost).
   std::vector<std::vector<Migrant>> moving_;  // per neighbour: the migrants,
@@ -472,9 +401,6 @@ class DecomposedParticleField final : public CueField {
   std::vector<std::vector<int>> adjacent_;  // every rank's neighbours
   std::vector<Decomposition::Bounds> bounds_;  // every rank's block
   std::vector<std::vector<int>> makers_;       // per cue: the ranks that make its particles, ascending
-  // The whole estimate (2 K meshes), the same on every rank.
-  std::vector<double> estimate_;
-  std::vector<std::uint64_t> deposit_;
 };
 
 }  // namespace

@@ -69,11 +69,15 @@ void lod_sweep_y(double* c, int n, int planes, double lambda, bool reflecting) {
 }
 
 // Axis 2 (z): planes y = p, row m = z.
-void lod_sweeps(double* c, int n, double lambda, bool reflecting) {
+void lod_sweep_z(double* c, int n, double lambda, bool reflecting) {
   const std::size_t nn = static_cast<std::size_t>(n);
+  sweep_planes(c, n, nn, nn * nn, nn, lambda, reflecting);
+}
+
+void lod_sweeps(double* c, int n, double lambda, bool reflecting) {
   lod_sweep_x(c, n, n, lambda, reflecting);
   lod_sweep_y(c, n, n, lambda, reflecting);
-  sweep_planes(c, n, nn, nn * nn, nn, lambda, reflecting);
+  lod_sweep_z(c, n, lambda, reflecting);
 }
 
 }  // namespace axg

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/engine/state.hpp"
+#include "axonguide/scene/scene.hpp"
 
 namespace axg {
 
@@ -82,6 +83,73 @@ void fold_estimate(std::uint32_t step, const EstimateParams& params, std::vector
                         deposit[i] = 0;
                       }
                     });
+}
+
+ParticleFieldStages::ParticleFieldStages(const Scene& scene, const std::vector<core::CueParams>& cues)
+    : seed_(scene.seed),
+      cues_(cues),
+      sense_(sense_params(scene)),
+      params_(particle_params(scene)),
+      geometry_(particle_hash_geometry(scene)),
+      ballistic_(scene.cues.particles.motion == Motion::kBallistic),
+      use_grid_(particle_grid_used(scene)),
+      use_estimate_(particle_estimate_used(scene)),
+      mesh_(estimate_geometry(scene)),
+      estimate_params_(estimate_params(scene)) {
+  grid_.reserve_starts(geometry_, use_grid_);
+  if (use_estimate_) {
+    estimate_.assign(2 * cues_.size() * mesh_.nodes, 0.0);
+    deposit_.assign(estimate_.size(), 0);
+  }
+}
+
+void ParticleFieldStages::advance(std::uint32_t step, PhaseTimes& times) {
+  {
+    ScopedPhase p(times, step, "particles.emit");
+    emit(step);
+  }
+  {
+    ScopedPhase p(times, step, "particles.move");
+    move_particles(seed_, step, cues_, params_, ballistic_, pos_, vel_, id_, source_, keep_);
+  }
+  {
+    ScopedPhase p(times, step, settle_phase());
+    settle();
+  }
+  if (use_grid_) {
+    ScopedPhase p(times, step, "particles.grid");
+    build_grid();
+  }
+  if (params_.collisions) {
+    ScopedPhase p(times, step, "particles.collide");
+    collide();
+  }
+  if (use_estimate_) {
+    ScopedPhase p(times, step, "particles.estimate");
+    deposit_particles(mesh_, cues_.size(), pos_, id_, source_, deposit_);
+    reduce_deposits();
+    fold_estimate(step, estimate_params_, estimate_, deposit_);
+  }
+  stepped();
+}
+
+void ParticleFieldStages::sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const {
+  core::sample_particle_field(x, grid_.view(geometry_), estimate_set(), cues_.data(), static_cast<int>(cues_.size()),
+                              sense_, samples, pull);
+}
+
+void ParticleFieldStages::emit(std::uint32_t step) {
+  for (std::size_t k = 0; k < cues_.size(); ++k) {
+    const std::uint32_t count = core::emitted_at(cues_[k].emission, step);
+    for (std::uint32_t j = 0; j < count; ++j) {
+      const std::uint64_t id = next_id_++;
+      if (!makes(id, k)) continue;
+      pos_.push_back(cues_[k].position);
+      id_.push_back(id);
+      source_.push_back(static_cast<std::uint16_t>(k));
+      if (ballistic_) vel_.push_back(core::birth_velocity(seed_, id, step, params_));
+    }
+  }
 }
 
 }  // namespace axg

@@ -13,5 +13,7 @@ void lod_sweeps(double* c, int n, double lambda, bool reflecting);
 // of the grid: the decomposed grid field runs these locally and pipelines the z sweep).
 void lod_sweep_x(double* c, int n, int planes, double lambda, bool reflecting);
 void lod_sweep_y(double* c, int n, int planes, double lambda, bool reflecting);
+// The z sweep of the whole grid (lines along z, advanced plane of y by plane).
+void lod_sweep_z(double* c, int n, double lambda, bool reflecting);
 
 }  // namespace axg

@@ -65,6 +65,7 @@ Scene paper_direct_scene(std::uint64_t neurons) {
   s.neurons.count = neurons;
   s.neurons.radius = std::round(2.5 * std::cbrt(static_cast<double>(neurons) / 100.0) * 1e4) / 1e4;
   s.guidance.model = GuidanceModel::kDirect;
+  s.guidance.decision = DecisionRule::kPerStep;  // the report's rule (no cue turns here)
   s.steps = 100;
   s.axons.persistence_length.reset();  // the report's straight axons
   return s;
@@ -79,6 +80,7 @@ Scene paper_cue_scene(std::uint64_t neurons) {
   s.neurons.soma_radius = std::round(2.5 * std::cbrt(0.1 / static_cast<double>(neurons)) * 1e4) / 1e4;
   s.steps = 100;
   s.axons.persistence_length.reset();  // the report's straight axons
+  s.guidance.decision = DecisionRule::kPerStep;  // the report's one turn per step,
   s.guidance.noise = NoiseForm::kBinding;  // the report's SNR form,
   s.cues.particles.amount = 0.01;          // particle amount and emission
   s.cues.warmup_steps = 0;                 // and fields that start empty

@@ -33,6 +33,26 @@ struct TipRecord {
   std::uint32_t id;
 };
 
+// An axon's record followed by its decision interval's sums (m doubles; none when every
+// interval is one step), as axons travel between ranks.
+void append_axon(Bytes& out, const AxonRecord& r, const double* sums, std::size_t m) {
+  append(out, &r, 1);
+  if (m) append(out, sums, m);
+}
+
+// visit(record, sums) for every axon of a message (sums null when m is 0).
+template <class Visit>
+void for_each_axon(const Bytes& in, std::size_t m, Visit&& visit) {
+  const std::size_t size = sizeof(AxonRecord) + m * sizeof(double);
+  std::vector<double> sums(m);
+  for (std::size_t at = 0; at + size <= in.size(); at += size) {
+    AxonRecord r;
+    std::memcpy(static_cast<void*>(&r), in.data() + at, sizeof r);
+    if (m) std::memcpy(sums.data(), in.data() + at + sizeof r, m * sizeof(double));
+    visit(static_cast<const AxonRecord&>(r), m ? static_cast<const double*>(sums.data()) : nullptr);
+  }
+}
+
 // The grid over this rank's somas: cells of the one-process soma grid's size over the box
 // of its somas (its block and halo at most), coarsened while there are more than about two
 // cells a soma. Which cells a search visits changes nothing: find_contact's answer is the
@@ -72,6 +92,8 @@ class DecomposedEngine final : public Engine {
         n_(static_cast<std::size_t>(scene.neurons.count)),
         stages_(scene),
         modulated_(stages_.modulated()),
+        m_(stages_.sums_per_axon()),
+        zeros_(m_, 0.0),
         field_(make_decomposed_field(scene, stages_.cues(), d, comm, report.field)),
         report_(report),
         neighbours_(d.neighbours(rank_)),
@@ -93,7 +115,7 @@ class DecomposedEngine final : public Engine {
       const Vec3 h = initial_heading(scene, id, somas.pos[s]);
       route({axon_start(somas.pos[s], h, scene), h, 0.0, stages_.params().step_length, id, 0, core::kNoNeuron,
              AxonStatus::kGrowing},
-            out);
+            zeros_.data(), out);
     }
     receive(comm_.exchange(out));  // a tip starts on its soma's surface, perhaps in the next block
   }
@@ -112,7 +134,8 @@ class DecomposedEngine final : public Engine {
       out.heading.resize(n_);
       out.step_length.resize(modulated_ ? n_ : 0);
     }
-    gather_records(false, [&](const AxonRecord& r) {
+    if (comm_.root()) out.guidance.assign(n_ * m_, 0.0);
+    gather_records(false, m_, [&](const AxonRecord& r, const double* sums) {
       out.axons.tip[r.id] = r.tip;
       out.axons.length[r.id] = r.length;
       out.axons.status[r.id] = r.status;
@@ -120,6 +143,8 @@ class DecomposedEngine final : public Engine {
       out.axons.target[r.id] = r.target;
       out.heading[r.id] = r.heading;
       if (modulated_) out.step_length[r.id] = r.step_length;
+      if (m_ && r.status == AxonStatus::kGrowing)  // a stopped axon's sums are zero, as in one process
+        std::copy_n(sums, m_, out.guidance.data() + static_cast<std::size_t>(r.id) * m_);
     });
     out.connected = stats_.connected;
     out.exited = stats_.exited;
@@ -128,15 +153,17 @@ class DecomposedEngine final : public Engine {
 
   // Every rank holds the whole checkpoint; each keeps the axons whose tips lie in its block.
   void load(const EngineState& in) override {
-    grow_ = {};
+    grow_ = Growing(m_);
     done_.clear();
+    if (in.guidance.size() != in.axons.size() * m_)
+      throw RunError("checkpoint: the decision sums do not match the scene's neurons and cues");
     for (std::size_t i = 0; i < in.axons.size(); ++i) {
       if (d_.owner(in.axons.tip[i]) != rank_) continue;
       const AxonRecord r{in.axons.tip[i], in.heading[i], in.axons.length[i],
                          modulated_ ? in.step_length[i] : stages_.params().step_length, static_cast<std::uint32_t>(i),
                          in.axons.steps[i], in.axons.target[i], in.axons.status[i]};
       if (r.status == AxonStatus::kGrowing)
-        grow_.push(r);
+        grow_.push(r, m_ ? in.guidance.data() + i * m_ : nullptr);
       else
         done_.push_back(r);
     }
@@ -206,7 +233,7 @@ class DecomposedEngine final : public Engine {
   void finish(NeuronState& out) override {
     std::fill(grow_.status.begin(), grow_.status.end(), AxonStatus::kMaxSteps);
     bool sized = false;  // rank 0 sizes the result once the engine's own arrays are freed
-    gather_records(true, [&](const AxonRecord& r) {
+    gather_records(true, 0, [&](const AxonRecord& r, const double*) {
       if (!sized) out.resize(n_), sized = true;
       out.tip[r.id] = r.tip;
       out.length[r.id] = r.length;
@@ -225,52 +252,61 @@ class DecomposedEngine final : public Engine {
   std::string note() const override { return field_ ? field_->note() : std::string(); }
 
  private:
-  // The growing axons of this block, by slot (structure of arrays, for AxonStages).
+  // The growing axons of this block, by slot (structure of arrays, for AxonStages), with
+  // their decision interval's sums (m per axon).
   struct Growing {
+    explicit Growing(std::size_t m = 0) : m(m) {}
+    std::size_t m;
     std::vector<std::uint32_t> id, steps, target, slots;
     std::vector<Vec3> tip, heading;
-    std::vector<double> length, step_length;
+    std::vector<double> length, step_length, sums;
     std::vector<AxonStatus> status;
     std::size_t size() const { return id.size(); }
-    std::size_t bytes() const { return id.capacity() * (4 * 4 + 2 * sizeof(Vec3) + 2 * 8 + 1); }
-    void push(const AxonRecord& r) {
+    std::size_t bytes() const { return id.capacity() * (4 * 4 + 2 * sizeof(Vec3) + 2 * 8 + 1) + sums.capacity() * 8; }
+    void push(const AxonRecord& r, const double* s) {
       slots.push_back(static_cast<std::uint32_t>(id.size()));
       id.push_back(r.id), steps.push_back(r.steps), target.push_back(r.target);
       tip.push_back(r.tip), heading.push_back(r.heading);
       length.push_back(r.length), step_length.push_back(r.step_length);
       status.push_back(r.status);
+      if (m) sums.insert(sums.end(), s, s + m);
     }
     void move(std::size_t to, std::size_t from) {
       id[to] = id[from], steps[to] = steps[from], target[to] = target[from];
       tip[to] = tip[from], heading[to] = heading[from];
       length[to] = length[from], step_length[to] = step_length[from];
       status[to] = status[from];
+      if (m) std::copy_n(sums.data() + from * m, m, sums.data() + to * m);
     }
     void shrink() {
       for (auto* v : {&id, &steps, &target, &slots}) v->shrink_to_fit();
       tip.shrink_to_fit(), heading.shrink_to_fit(), length.shrink_to_fit(), step_length.shrink_to_fit();
-      status.shrink_to_fit();
+      sums.shrink_to_fit(), status.shrink_to_fit();
     }
     void resize(std::size_t n) {  // slots stay 0..n-1
       for (auto* v : {&id, &steps, &target, &slots}) v->resize(n);
       tip.resize(n), heading.resize(n), length.resize(n), step_length.resize(n), status.resize(n);
+      sums.resize(n * m);
     }
     AxonRecord record(std::size_t k) const {
       return {tip[k], heading[k], length[k], step_length[k], id[k], steps[k], target[k], status[k]};
     }
+    const double* sums_of(std::size_t k) const { return m ? sums.data() + k * m : nullptr; }
     AxonArrays arrays() {
-      return {id.data(), tip.data(), heading.data(), length.data(), step_length.data(), status.data(), steps.data(),
-              target.data()};
+      AxonArrays a{id.data(), tip.data(), heading.data(), length.data(), step_length.data(), status.data(), steps.data(),
+                   target.data()};
+      a.sums = m ? sums.data() : nullptr;
+      return a;
     }
   };
 
   // An axon whose tip lies here stays; the others go to their block's rank.
-  void route(const AxonRecord& r, std::vector<Bytes>& out) {
+  void route(const AxonRecord& r, const double* sums, std::vector<Bytes>& out) {
     const int owner = d_.owner(r.tip);
     if (owner == rank_)
-      grow_.push(r);
+      grow_.push(r, sums);
     else
-      send_to(owner, r, out);
+      send_to(owner, r, sums, out);
   }
 
   // After a step: finished axons are kept as records, migrants sent, the rest compacted
@@ -285,7 +321,7 @@ class DecomposedEngine final : public Engine {
       }
       const int owner = d_.owner(grow_.tip[k]);
       if (owner != rank_) {
-        send_to(owner, grow_.record(k), out);
+        send_to(owner, grow_.record(k), grow_.sums_of(k), out);
         continue;
       }
       if (w != k) grow_.move(w, k);
@@ -296,17 +332,17 @@ class DecomposedEngine final : public Engine {
     receive(comm_.exchange(out));
   }
 
-  void send_to(int owner, const AxonRecord& r, std::vector<Bytes>& out) {
+  void send_to(int owner, const AxonRecord& r, const double* sums, std::vector<Bytes>& out) {
     const int peer = peer_of_[static_cast<std::size_t>(owner)];
     if (peer < 0)  // cannot happen: a step is shorter than a block (decompose checks it)
       throw RunError("decomposed run: an axon moved past the neighbouring blocks in one step");
-    append(out[static_cast<std::size_t>(peer)], &r, 1);
+    append_axon(out[static_cast<std::size_t>(peer)], r, sums, m_);
     ++report_.migrated;
   }
 
   void receive(const std::vector<Bytes>& in) {
     for (const Bytes& from : in)
-      for (const AxonRecord& r : records<AxonRecord>(from)) grow_.push(r);
+      for_each_axon(from, m_, [&](const AxonRecord& r, const double* sums) { grow_.push(r, sums); });
   }
 
   // Every rank's records, visited on rank 0 in rank order: `fill` packs this rank's.
@@ -324,21 +360,25 @@ class DecomposedEngine final : public Engine {
     report_.gathers.message_bytes += spent.message_bytes;
   }
 
-  // `release`: the axons are freed as they are packed (finish).
+  // Every axon's record and (m doubles) its sums, visited on rank 0 in rank order as
+  // visit(record, sums); a stopped axon's sums are zero. `release`: the axons are freed as
+  // they are packed (finish).
   template <class Visit>
-  void gather_records(bool release, Visit&& visit) {
-    gather<AxonRecord>(
-        [&](Bytes& b) {
-          b.reserve((grow_.size() + done_.size()) * sizeof(AxonRecord));
-          append(b, done_);
-          if (release) done_ = {};
-          for (std::size_t k = 0; k < grow_.size(); ++k) {
-            const AxonRecord r = grow_.record(k);
-            append(b, &r, 1);
-          }
-          if (release) grow_ = {};
-        },
-        visit);
+  void gather_records(bool release, std::size_t m, Visit&& visit) {
+    const Traffic before = comm_.traffic();
+    Bytes b;
+    b.reserve((grow_.size() + done_.size()) * (sizeof(AxonRecord) + m * sizeof(double)));
+    for (const AxonRecord& r : done_) append_axon(b, r, zeros_.data(), m);
+    if (release) done_ = {};
+    for (std::size_t k = 0; k < grow_.size(); ++k) append_axon(b, grow_.record(k), grow_.sums_of(k), m);
+    if (release) grow_ = Growing(m_);
+    for (Bytes& from : comm_.gather(std::move(b))) {
+      for_each_axon(from, m, visit);
+      from = Bytes();
+    }
+    const Traffic spent = comm_.traffic() - before;
+    report_.gathers.messages += spent.messages;
+    report_.gathers.message_bytes += spent.message_bytes;
   }
 
   const Scene& scene_;
@@ -348,12 +388,14 @@ class DecomposedEngine final : public Engine {
   std::size_t n_;
   AxonStages stages_;
   bool modulated_;
+  std::size_t m_;               // decision sums per axon
+  std::vector<double> zeros_;   // m_ zeros: a new or stopped axon's sums
   std::unique_ptr<CueField> field_;  // null for direct guidance; decomposed particles and grid
   RankReport& report_;
   std::vector<int> neighbours_;
   std::vector<int> peer_of_;  // rank -> index in neighbours_, -1 when not adjacent
   CellGrid grid_;
-  Growing grow_;
+  Growing grow_{m_};
   std::vector<AxonRecord> done_;  // connected or exited here
   StepStats stats_;
 };

@@ -298,6 +298,7 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
                                 {"r0", "0.2 um/min"}, {"kext", "0.1 um/min"},       {"kr", "0.02 /min"},
                                 {"ka", "0.02 /min"}, {"a1b", "0.001 /min"}};
     j["guidance"]["model"] = v.steering;
+    j["guidance"]["integration_time"] = 30.0;  // one decision per step of 30 min
     j["cues"]["field"] = v.field;
     if (std::string(v.field) == "grid") j["cues"]["grid"]["spacing"] = 40.0;
     if (std::string(v.field) == "imposed")

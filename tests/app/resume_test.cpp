@@ -117,9 +117,22 @@ std::vector<std::pair<std::string, json>> field_scenes() {
   s["dt"] = 2.0;
   s["cues"]["warmup_steps"] = 6;
   s["axons"]["signalling"]["inhibition"] = "population";
-  s["guidance"] = {{"model", "snr"}, {"noise", "binding"}};
+  s["guidance"] = {{"model", "snr"}, {"noise", "binding"}, {"integration_time", 2.0}};
   s["output"] = {{"checkpoint_every", 4}, {"paths", true}};
   out.emplace_back("signalling-imposed", s);
+  // Decisions over several steps (their sums are state, and a checkpoint falls inside an
+  // interval): three steps an interval, and a T of 2.5 steps (intervals of 2 and 3).
+  s = base_scene();
+  s["cues"]["field"] = "analytic";
+  s["dt"] = 0.5;
+  s["axons"]["step_length"] = 0.175;
+  s["axons"]["growth_modulation"] = 0.3;
+  s["guidance"]["integration_time"] = 1.5;
+  out.emplace_back("analytic-integrated-modulated", s);
+  s = base_scene();
+  s["guidance"]["integration_time"] = 2.5;
+  s["guidance"]["noise"] = "binding";
+  out.emplace_back("particles-integrated", s);
   return out;
 }
 
@@ -191,7 +204,7 @@ TEST(resume, KilledAnywhereResumesToTheSameBytesForEveryFieldType) {
 TEST(resume, TheAcceleratorsEngineResumesToTheSameBytes) {
   const auto scenes = field_scenes();
   std::size_t next = 3;
-  for (std::size_t s : {1u, 3u, 5u, 7u}) {
+  for (std::size_t s : {1u, 3u, 5u, 7u, 8u, 9u}) {
     Trial t(scenes[s].first, scenes[s].second);
     for (int k = 0; k < 2; ++k) t.kill_and_resume(kKillPoints[next++ % kKillPoints.size()], "emulated", "emulated");
     t.kill_and_resume("step 13", "emulated", "reference");
@@ -404,6 +417,8 @@ TEST(resume, ACheckpointWhoseFieldStateDoesNotFitIsRefused) {
        "per-particle arrays of different lengths"},
       {"particles-ballistic-collisions-vtk", "no velocities", [](EngineState& e) { e.particle_vel.clear(); },
        "no velocities"},
+      {"particles-integrated", "decision sums one value short", [](EngineState& e) { e.guidance.pop_back(); },
+       "the decision sums do not match"},
   };
   for (const Edit& x : edits) {
     Trial t(std::string("misfit-") + x.scene, scenes.at(x.scene));

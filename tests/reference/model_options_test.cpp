@@ -467,7 +467,7 @@ TEST(units, GrowthSpeedTimesDtIsTheStepLength) {
   EXPECT_EQ(back.axons.step_length, 1.0);
   EXPECT_EQ(scene_to_json(back), j);
   // Without step_length at all, and with a different dt.
-  EXPECT_EQ(parse_scene(R"({"dt": 2, "axons": {"growth_speed": 0.25}})", "t").scene.axons.step_length, 0.5);
+  EXPECT_EQ(parse_scene(R"({"dt": 2, "axons": {"growth_speed": 0.25}, "guidance": {"integration_time": 2}})", "t").scene.axons.step_length, 0.5);
 }
 
 // A growth-speed scene runs exactly as the step-length scene it describes.

@@ -347,6 +347,11 @@ RC_GTEST_PROP(scene, AcceptedValuesRoundTrip, ()) {
   s.neurons.radius = *rc::gen::inRange(1, 100000) / 7.0;
   s.neurons.soma_radius = s.neurons.radius / *rc::gen::inRange(2, 1000);
   s.axons.step_length = *rc::gen::inRange(1, 100000) / 3.0;
+  // The report's per-step rule takes any step; a continuum decision needs dt <= T and steps
+  // at most the sensing diameter.
+  if (*rc::gen::arbitrary<bool>()) s.guidance.decision = DecisionRule::kPerStep;
+  else s.guidance.sensing_radius = s.axons.step_length;
+  if (*rc::gen::arbitrary<bool>()) s.guidance.integration_time = s.dt * *rc::gen::inRange(1, 100) / 7.0 + s.dt;
   const std::string text = scene_to_json(s).dump();
   RC_ASSERT(scene_to_json(parse_scene(text, "t").scene).dump() == text);
 }
@@ -397,6 +402,15 @@ RC_GTEST_PROP(scene, AcceptedModelOptionsRoundTrip, ()) {
   if (*rc::gen::arbitrary<bool>()) s.cues.particles.estimate.time = *rc::gen::inRange(0, 100) / 4.0;
   if (*rc::gen::arbitrary<bool>()) s.cues.grid.spacing = *rc::gen::inRange(1, 100) / 100.0;
   if (*rc::gen::arbitrary<bool>()) s.cues.grid.substeps = *rc::gen::inRange<std::uint32_t>(1, 50);
+  // The decision: the report's per step, or per integration interval T >= dt with steps at
+  // most the sensing diameter; the receptors' correlation time given or not.
+  if (*rc::gen::arbitrary<bool>()) {
+    s.guidance.decision = DecisionRule::kPerStep;
+  } else {
+    s.guidance.integration_time = s.dt * (1.0 + *rc::gen::inRange(0, 64) / 8.0);
+    s.guidance.sensing_radius = std::max(s.guidance.sensing_radius, s.axons.step_length * (1.0 + s.axons.growth_modulation));
+  }
+  if (*rc::gen::arbitrary<bool>()) s.guidance.receptor_time = *rc::gen::inRange(0, 1000) / 16.0;
   const std::string text = scene_to_json(s).dump();
   const Scene back = parse_scene(text, "t").scene;
   RC_ASSERT(scene_to_json(back).dump() == text);

@@ -40,6 +40,9 @@ class AccelEngine final : public Engine {
     if (modulated_ || scene.signalling()) step_length_.assign(n, growth_.step_length);
     if (scene.uses_cues()) init_field();
     guide_ = guide_params(scene, raw(cues_), static_cast<int>(cues_host_.size()));
+    clock_ = decision_clock(scene);
+    sums_per_axon_ = clock_.sums() && scene.uses_cues() ? cues_host_.size() * core::kSumsPerCue : 0;
+    sums_.assign(n * sums_per_axon_, 0.0);
     if (scene.signalling()) {
       soma_by_id_.assign(placement.soma.begin(), placement.soma.end());
       signal_.assign(n * core::kSignalSpecies, 0.0);
@@ -100,6 +103,20 @@ class AccelEngine final : public Engine {
                     out.signal.data() + static_cast<std::size_t>(ids[k]) * core::kSignalSpecies);
       copy_out(receptors_, out.receptors);
     }
+    // The growing axons' decision sums, slot-major to id order (a stopped axon's are zero).
+    const std::size_t m = sums_per_axon_;
+    out.guidance.assign(n * m, 0.0);
+    if (m) {
+      std::vector<double> by_slot(sums_.size());
+      thrust::copy(sums_.begin(), sums_.end(), by_slot.begin());
+      std::vector<std::uint32_t> ids(ids_.size());
+      thrust::copy(ids_.begin(), ids_.end(), ids.begin());
+      std::vector<core::AxonStatus> status(status_.size());
+      thrust::copy(status_.begin(), status_.end(), status.begin());
+      for (std::size_t k = 0; k < ids.size(); ++k)
+        if (status[k] == core::AxonStatus::kGrowing)
+          std::copy_n(by_slot.data() + k * m, m, out.guidance.data() + static_cast<std::size_t>(ids[k]) * m);
+    }
     out.grid.clear();
     if (use_estimate_) copy_out(estimate_, out.grid);
     if (scene_.uses_cues() && scene_.cues.field == FieldKind::kGrid) {
@@ -136,6 +153,17 @@ class AccelEngine final : public Engine {
     vel_.assign(in.particle_vel.begin(), in.particle_vel.end());
     id_.assign(in.particle_id.begin(), in.particle_id.end());
     source_.assign(in.particle_cue.begin(), in.particle_cue.end());
+    if (in.guidance.size() != sums_.size())
+      throw std::runtime_error("checkpoint: the decision sums do not match the scene's neurons and cues");
+    if (sums_per_axon_) {
+      const std::size_t m = sums_per_axon_;
+      std::vector<std::uint32_t> ids(ids_.size());
+      thrust::copy(ids_.begin(), ids_.end(), ids.begin());
+      std::vector<double> by_slot(in.guidance.size());
+      for (std::size_t k = 0; k < ids.size(); ++k)
+        std::copy_n(in.guidance.data() + static_cast<std::size_t>(ids[k]) * m, m, by_slot.data() + k * m);
+      sums_.assign(by_slot.begin(), by_slot.end());
+    }
     if (scene_.signalling()) {
       if (in.signal.size() != signal_.size() || in.receptors.size() != receptors_.size())
         throw std::runtime_error("checkpoint: the signalling state does not match the scene's neurons");
@@ -168,8 +196,9 @@ class AccelEngine final : public Engine {
         soma_signals(false);
       }
       ScopedPhase p(times, step, "steer");
-      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(), fields(), guide_,
-                                   signal_arrays(), step});
+      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(),
+                                   sums_.empty() ? nullptr : raw(sums_), sums_per_axon_, fields(), guide_,
+                                   signal_arrays(), clock_.at(step)});
       if (scene_.signalling()) check_signalling(step);
     }
     {
@@ -561,6 +590,9 @@ class AccelEngine final : public Engine {
   // The signalling model.
   bool modulated_ = false;
   core::GuideParams guide_{};  // stage 2's parameters; its cues are cues_
+  DecisionClock clock_;
+  std::size_t sums_per_axon_ = 0;
+  dvec<double> sums_;         // per slot: the open decision interval's sums
   dvec<Vec3> soma_by_id_;
   dvec<double> signal_, receptors_, inhibition_;
   dvec<std::uint32_t> fail_id_;

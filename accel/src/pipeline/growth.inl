@@ -68,10 +68,12 @@ struct Steer {
   const Vec3* d_tip;
   Vec3* d_heading;
   double* d_step_length;  // null unless axons have their own step lengths
+  double* d_sums;         // sums_per_axon per slot: the decision interval's sums; null when intervals are one step
+  std::size_t sums_per_axon;
   CueFields fields;
   core::GuideParams guide;  // its cues are fields.d_cues
   SignalArrays signal;      // d_signal null without the signalling model
-  std::uint32_t step;
+  core::Decision decision;  // where this step stands in its interval
   AXG_HD void operator()(std::size_t a) const {
     const std::uint32_t k = d_active[a];
     core::CueSample samples[core::kMaxCues];
@@ -79,8 +81,9 @@ struct Steer {
     sample_fields(d_tip[k], fields, samples, pull);
     const core::GuidedAxon axon{d_heading + k, d_step_length ? d_step_length + k : nullptr,
                                 signal.d_signal ? signal.d_signal + static_cast<std::size_t>(k) * core::kSignalSpecies : nullptr,
-                                signal.d_signal ? signal.d_inhibition[d_ids[k]] : 0.0};
-    const core::SignallingStep g = core::guide_axon(guide, samples, pull, axon, d_ids[k], step);
+                                signal.d_signal ? signal.d_inhibition[d_ids[k]] : 0.0,
+                                d_sums ? d_sums + k * sums_per_axon : nullptr};
+    const core::SignallingStep g = core::guide_axon(guide, samples, pull, axon, d_ids[k], decision);
     if (g.status != core::StiffStatus::kOk) {
       signal.d_fail_code[k] = static_cast<std::uint16_t>((static_cast<int>(g.status) << 8) | (g.species + 1));
       atomic_min(signal.d_fail_id, d_ids[k]);

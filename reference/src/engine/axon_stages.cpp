@@ -26,7 +26,9 @@ AxonStages::AxonStages(const Scene& scene)
       modulated_(modulates_growth(scene)),
       signalling_(scene.signalling()),
       cues_(make_cues(scene)),
-      guide_(guide_params(scene, cues_.data(), static_cast<int>(cues_.size()))) {
+      guide_(guide_params(scene, cues_.data(), static_cast<int>(cues_.size()))),
+      clock_(decision_clock(scene)),
+      sums_per_axon_(clock_.sums() && scene.uses_cues() ? cues_.size() * core::kSumsPerCue : 0) {
   if (signalling_) {
     population_inhibition_ = scene.axons.signalling.population;
     populations_ = scene.neurons.populations;
@@ -41,6 +43,7 @@ SignallingFailure first_failure(SignallingFailure x, SignallingFailure y) { retu
 
 SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a,
                                     std::uint32_t step) const {
+  const core::Decision d = clock_.at(step);
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, slots.size()), SignallingFailure{},
       [&](const tbb::blocked_range<std::size_t>& r, SignallingFailure failed) {
@@ -51,8 +54,9 @@ SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std
           field.sample(a.tip[k], samples, pull);
           const core::GuidedAxon axon{&a.heading[k], a.step_length ? &a.step_length[k] : nullptr,
                                       a.signal ? a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies : nullptr,
-                                      a.inhibition ? a.inhibition[a.id[k]] : 0.0};
-          const core::SignallingStep g = core::guide_axon(guide_, samples, pull, axon, a.id[k], step);
+                                      a.inhibition ? a.inhibition[a.id[k]] : 0.0,
+                                      a.sums ? a.sums + static_cast<std::size_t>(k) * sums_per_axon_ : nullptr};
+          const core::SignallingStep g = core::guide_axon(guide_, samples, pull, axon, a.id[k], d);
           if (g.status != core::StiffStatus::kOk && a.id[k] < failed.neuron) failed = {a.id[k], g.species, g.status};
         }
         return failed;

@@ -24,7 +24,9 @@ std::string scene_hash(const Scene& scene) { return sha256_hex(scene_to_json(sce
 
 namespace {
 
-constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '1'};
+// Format 2 added the sums of the open decision interval (EngineState::guidance).
+constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '2'};
+constexpr char kMagicFormat1[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '1'};
 constexpr std::uint32_t kByteOrder = 0x01020304;
 
 static_assert(sizeof(core::Vec3) == 24 && std::is_trivially_copyable_v<core::Vec3>);
@@ -183,6 +185,7 @@ void contents(Io& io, Run& r, State& e) {
   io.array(e.grid);
   io.array(e.signal);
   io.array(e.receptors);
+  io.array(e.guidance);
 }
 
 }  // namespace
@@ -207,6 +210,10 @@ RunCheckpoint read_checkpoint(const fs::path& path) {
   Reader in(path);
   char magic[sizeof kMagic];
   in.bytes(magic, sizeof magic);
+  if (std::memcmp(magic, kMagicFormat1, sizeof kMagic) == 0)
+    throw RunError(fmt::format("the checkpoint {} was written by an earlier version of axonguide (checkpoint format 1); "
+                               "this version cannot resume it: run again with --force to start over",
+                               path.string()));
   if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) in.bad("not an axonguide checkpoint");
   if (in.pod<std::uint32_t>() != kByteOrder) in.bad("written on a machine of another byte order");
   RunCheckpoint c;

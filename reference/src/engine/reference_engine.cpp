@@ -63,6 +63,7 @@ class ReferenceEngine final : public Engine {
       for (std::size_t k = 0; k < n; ++k) active_[k] = static_cast<std::uint32_t>(k);
     }
     if (modulated_) step_length_.assign(n, stages_.params().step_length);
+    sums_.assign(n * stages_.sums_per_axon(), 0.0);
     if (stages_.signalling()) {
       signal_.assign(n * core::kSignalSpecies, 0.0);
       receptors_.assign(n, 0.0);
@@ -104,6 +105,13 @@ class ReferenceEngine final : public Engine {
                   out.signal.data() + static_cast<std::size_t>(ids[k]) * core::kSignalSpecies);
     });
     out.receptors = receptors_;
+    // The growing axons' sums (a stopped axon's are zero: every engine writes the same).
+    const std::size_t m = stages_.sums_per_axon();
+    out.guidance.assign(sums_.size(), 0.0);
+    tbb::parallel_for(std::size_t{0}, m ? n : 0, [&](std::size_t k) {
+      if (state_.status[k] == AxonStatus::kGrowing)
+        std::copy_n(sums_.data() + k * m, m, out.guidance.data() + static_cast<std::size_t>(ids[k]) * m);
+    });
     out.connected = stats_.connected;
     out.exited = stats_.exited;
     if (field_) field_->save(out);
@@ -132,6 +140,12 @@ class ReferenceEngine final : public Engine {
       receptors_ = in.receptors;
       stages_.inhibition_from(receptors_.data(), inhibition_.data(), receptors_.size());
     }
+    const std::size_t m = stages_.sums_per_axon();
+    if (in.guidance.size() != sums_.size())
+      throw std::runtime_error("checkpoint: the decision sums do not match the scene's neurons and cues");
+    tbb::parallel_for(std::size_t{0}, m ? ids.size() : 0, [&](std::size_t k) {
+      std::copy_n(in.guidance.data() + static_cast<std::size_t>(ids[k]) * m, m, sums_.data() + k * m);
+    });
     active_.clear();
     every_slot_ = false;
     for (std::size_t k = 0; k < ids.size(); ++k)
@@ -195,6 +209,7 @@ class ReferenceEngine final : public Engine {
     release(signal_);
     release(receptors_);
     release(inhibition_);
+    release(sums_);
     release(soma_);
     const std::vector<std::uint32_t>& ids = somas_.ids;
     release(somas_.cell_start);
@@ -221,7 +236,8 @@ class ReferenceEngine final : public Engine {
 
   std::size_t bytes() const override {
     return (field_ ? field_->bytes() : 0) + somas_.bytes() + active_.capacity() * 4 + heading_.capacity() * sizeof(core::Vec3) + step_length_.capacity() * 8 +
-           (signal_.capacity() + receptors_.capacity() + inhibition_.capacity()) * 8 + soma_.capacity() * sizeof(core::Vec3) +
+           (signal_.capacity() + receptors_.capacity() + inhibition_.capacity() + sums_.capacity()) * 8 +
+           soma_.capacity() * sizeof(core::Vec3) +
            state_.size() * (sizeof(core::Vec3) + 8 + 1 + 4 + 4);
   }
 
@@ -230,7 +246,7 @@ class ReferenceEngine final : public Engine {
     return {somas_.ids.data(), state_.tip.data(), heading_.data(), state_.length.data(),
             modulated_ ? step_length_.data() : nullptr, state_.status.data(), state_.steps.data(),
             state_.target.data(), signal_.empty() ? nullptr : signal_.data(),
-            inhibition_.empty() ? nullptr : inhibition_.data()};
+            inhibition_.empty() ? nullptr : inhibition_.data(), sums_.empty() ? nullptr : sums_.data()};
   }
 
   Slots slots() const { return every_slot_ ? Slots::all(state_.size()) : Slots(active_); }
@@ -271,6 +287,7 @@ class ReferenceEngine final : public Engine {
   // The signalling model: each slot's network, the somas by id, their receptors and the
   // inhibitory signal the networks read (by id).
   std::vector<double> signal_, receptors_, inhibition_;
+  std::vector<double> sums_;  // per slot: the open decision interval's sums (stages_.sums_per_axon())
   std::vector<core::Vec3> soma_;
   std::vector<std::uint32_t> active_;  // the growing slots, unless every_slot_
   bool every_slot_ = false;

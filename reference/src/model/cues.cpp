@@ -11,6 +11,7 @@
 #include "axonguide/model/estimate.hpp"
 #include "axonguide/model/particles.hpp"
 #include "axonguide/model/stencil.hpp"
+#include "axonguide/model/steering.hpp"
 #include "axonguide/placement/sampler_nd.hpp"
 #include "axonguide/scene/reader.hpp"
 #include "axonguide/scene/scene.hpp"
@@ -64,6 +65,7 @@ core::CueParams cue_from(const Source& s, core::Vec3 position, const Scene& scen
   c.sigma = std::sqrt(2.0 * s.diffusion * dt);
   c.inv_lambda = std::sqrt(s.decay / s.diffusion);
   c.analytic_scale = scene.cues.particles.amount * s.emission / (dt * 4.0 * 3.141592653589793 * s.diffusion);
+  c.dipole_variance = count_dipole_variance(scene, s.diffusion);
   return c;
 }
 

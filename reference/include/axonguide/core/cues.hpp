@@ -25,6 +25,11 @@ struct CueParams {
   double sigma;           // sqrt(2 D dt): Brownian displacement scale per axis, LU
   double inv_lambda;      // 1/lambda = sqrt(k/D), 1/LU (0 when k = 0)
   double analytic_scale;  // a Q / (dt 4 pi D): steady-state prefactor, concentration x LU
+  // The variance of this cue's count dipole averaged over the decision's integration time,
+  // per unit of its instantaneous variance: 1 for an instantaneous decision (the report's
+  // per-step rule), less as T grows past the molecules' correlation time (model/steering.cpp,
+  // dipole_mean_variance).
+  double dipole_variance = 1.0;
 };
 
 // What the growth cone derives from one cue at one point: the field's estimate of C and
@@ -72,7 +77,9 @@ struct SteerParams {
   GuidanceModel model;
   NoiseForm noise;
   double cos_turn, sin_turn;  // of the turn angle, computed on the host
-  double gain;                // alpha
+  // alpha: the SNR forms' gain for a decision over the integration time T (the scene's gain
+  // at one time unit times the growth of the SNR with T; model/steering.cpp).
+  double gain;
   double vector_weight;       // beta
   double modulation;          // m in [0, 1): growth-rate modulation (0: off)
 };

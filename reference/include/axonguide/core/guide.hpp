@@ -1,10 +1,15 @@
 #pragma once
-// Stage 2 of a step for one axon (SPEC §3.2, §3.5, §3.7), written once for every engine:
-// from the field's samples at the tip, the decision of steering.hpp turns the heading, and
-// the step length follows from it (growth-rate modulation) or from the signalling network,
-// integrated over the step with the concentration at the tip (signalling.hpp). The
-// reference engine calls it in a TBB loop, the accelerator in a kernel; each call writes
-// only its own axon's state.
+// Stage 2 of a step for one axon (SPEC §3.2, §3.5, §3.7), written once for every engine.
+// The growth cone decides once per integration interval T (guidance.integration_time), a
+// physical time: the interval's steps (dt <= T) add the field's samples at the tip along its
+// path, and the step that closes the interval turns the heading by the decision of
+// steering.hpp on their mean (the non-linear parts of the decision act on the integrated
+// evidence only). The step length follows from the decision (growth-rate modulation, held
+// until the next one) or from the signalling network, integrated over every step with the
+// concentration at the tip (signalling.hpp). The report's rule (guidance.decision
+// "per_step") is one step per interval. The reference engine calls guide_axon in a TBB loop,
+// the accelerator in a kernel; each call writes only its own axon's state.
+#include <cstddef>
 #include <cstdint>
 
 #include "cues.hpp"
@@ -14,6 +19,18 @@
 #include "vec3.hpp"
 
 namespace axg::core {
+
+// Where a step stands in its decision interval: the same for every axon (all start at growth
+// step 1), computed on the host for each step (model/steering.cpp, decision_at).
+struct Decision {
+  bool open;              // this step's samples start the interval's sums
+  bool decide;            // this step closes the interval: the decision acts on the mean
+  std::uint32_t samples;  // samples in the interval, this step's included
+  std::uint32_t index;    // the interval's number from 1: the decision's random counter
+};
+
+// The sums an axon keeps over an interval, per cue: C, grad, grad_check, pull.
+inline constexpr int kSumsPerCue = 10;
 
 // Every parameter of the stage (host-computed, passed by value).
 struct GuideParams {
@@ -37,15 +54,49 @@ struct GuidedAxon {
   double* step_length;  // null unless axons have their own step lengths
   double* signal;       // kSignalSpecies values; null without the signalling model
   double inhibition;    // the inhibitory signal its network reads (signalling model)
+  double* sums;         // kSumsPerCue per cue; null when every interval is one step
 };
 
-// The stage for axon `neuron` at `step`; returns the signalling step's status (kOk without
-// the model), which the engine reports for the lowest failing neuron id.
+// Adds this step's samples to the interval's sums (or starts them).
+AXG_HDI void add_samples(double* sums, const CueSample* samples, const Vec3* pull, int cue_count, bool open) {
+  for (int k = 0; k < cue_count; ++k) {
+    double* q = sums + static_cast<std::size_t>(k) * kSumsPerCue;
+    const CueSample& s = samples[k];
+    const double v[kSumsPerCue] = {s.c,      s.grad.x,  s.grad.y,  s.grad.z,  s.grad_check.x,
+                                   s.grad_check.y, s.grad_check.z, pull[k].x, pull[k].y, pull[k].z};
+    for (int j = 0; j < kSumsPerCue; ++j) q[j] = open ? v[j] : q[j] + v[j];
+  }
+}
+
+// The interval's mean samples from its sums.
+AXG_HDI void mean_samples(const double* sums, std::uint32_t count, int cue_count, CueSample* samples, Vec3* pull) {
+  const double n = static_cast<double>(count);
+  for (int k = 0; k < cue_count; ++k) {
+    const double* q = sums + static_cast<std::size_t>(k) * kSumsPerCue;
+    samples[k] = {q[0] / n, {q[1] / n, q[2] / n, q[3] / n}, {q[4] / n, q[5] / n, q[6] / n}};
+    pull[k] = {q[7] / n, q[8] / n, q[9] / n};
+  }
+}
+
+// The stage for axon `neuron` at a step standing at `d` in its interval; returns the
+// signalling step's status (kOk without the model), which the engine reports for the lowest
+// failing neuron id.
 AXG_HDI SignallingStep guide_axon(const GuideParams& p, const CueSample* samples, const Vec3* pull, GuidedAxon a,
-                                  std::uint32_t neuron, std::uint32_t step) {
-  const Steered st = steer_axon(*a.heading, samples, pull, p.cues, p.cue_count, p.sense, p.steer, p.seed, neuron, step);
-  *a.heading = st.heading;
-  if (p.modulated) *a.step_length = modulated_step(p.step_length, st.along, p.steer);
+                                  std::uint32_t neuron, const Decision& d) {
+  if (a.sums) add_samples(a.sums, samples, pull, p.cue_count, d.open);
+  if (d.decide) {
+    Steered st;
+    if (a.sums) {
+      CueSample mean[kMaxCues];
+      Vec3 mean_pull[kMaxCues];
+      mean_samples(a.sums, d.samples, p.cue_count, mean, mean_pull);
+      st = steer_axon(*a.heading, mean, mean_pull, p.cues, p.cue_count, p.sense, p.steer, p.seed, neuron, d.index);
+    } else {
+      st = steer_axon(*a.heading, samples, pull, p.cues, p.cue_count, p.sense, p.steer, p.seed, neuron, d.index);
+    }
+    *a.heading = st.heading;
+    if (p.modulated) *a.step_length = modulated_step(p.step_length, st.along, p.steer);
+  }
   if (!p.signalling) return {StiffStatus::kOk, -1, 0.0};
   const SignallingStep g = signalling_step(p.signal, a.signal, samples[p.signal_cue].c, a.inhibition, p.dt,
                                            p.signal_substeps, p.signal_halvings);

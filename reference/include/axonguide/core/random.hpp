@@ -29,8 +29,8 @@ enum class Stream : std::uint32_t {
   kParticleEmission = 4,  // id = particle id, step = birth step: offset and velocity at birth
   kParticleMotion = 5,    // id = particle id, step = step: Brownian increment, then the survival draw
   kParticleDecay = 6,     // retired (survival now follows the motion draws of kParticleMotion)
-  kSteerDecision = 7,     // id = neuron, step = step: X ~ N(|E|, 1), the one decision of the step
-  kSteerPerpendicular = 8,// id = neuron, step = step: the side when the evidence has none
+  kSteerDecision = 7,     // id = neuron, step = the decision's interval (per_step: the step): X ~ N(|E|, 1)
+  kSteerPerpendicular = 8,// id = neuron, step = the decision's interval: the side when the evidence has none
   kValidation = 9,        // id = point index, step = test index: validation harness
   kBenchmark = 10,        // id = point index: benchmarks
   kSourceKind = 11,       // id = source index: attractant or repellent for random_sources

@@ -1,5 +1,10 @@
 #pragma once
-// Steering (SPEC §3.5): one decision per step, whatever the number of cues.
+// Steering (SPEC §3.5): one decision per integration interval, whatever the number of cues.
+// The decision reads the mean of the interval's samples of C and grad C along the tip's path
+// (guide.hpp); only then do the non-linear parts act (1/C, f(gamma), the detection window,
+// the draw). `decision` below is the interval's number, the counter of its random draws, so
+// that refinements of dt share their noise. The report's rule (guidance.decision "per_step")
+// is the case of one step per interval with an instantaneous SNR.
 //
 // `snr` (Mortimer et al. 2009-2011). Every detected cue k contributes the evidence vector
 //   e_k = sign_k alpha (w m_k / C_k) f(gamma_k) u_k,
@@ -97,7 +102,7 @@ AXG_HDI Vec3 turn(Vec3 h, Vec3 u, bool toward, const SteerParams& p) {
 // decision gradient, variance sum_k C_k V / (5m) per axis (three normal deviates from the
 // decision stream). `along` is the z-score of D along h.
 AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
-                            const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t step) {
+                            const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t decision) {
   Vec3 d{0.0, 0.0, 0.0};
   double variance = 0.0;  // of D per axis
   bool any = false;
@@ -108,16 +113,16 @@ AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* c
     any = true;
     if (molecules) {
       d += cues[k].sign * s.grad;
-      variance += s.c / sp.c_per_particle / 5.0;  // n_k / 5
+      variance += s.c / sp.c_per_particle / 5.0 * cues[k].dipole_variance;  // n_k / 5, over T
     } else {
       d += (cues[k].sign * sp.count_mean_scale) * decision_gradient(s);
-      variance += sp.count_var_scale * s.c;
+      variance += sp.count_var_scale * s.c * cues[k].dipole_variance;
     }
   }
   if (!any) return {h, 0.0};
   const double sd = std::sqrt(variance);
   if (!molecules) {
-    Rng noise(seed, Stream::kSteerDecision, neuron, step);
+    Rng noise(seed, Stream::kSteerDecision, neuron, decision);
     double z0, z1, z2, unused;
     normal_pair(noise, &z0, &z1);
     normal_pair(noise, &z2, &unused);
@@ -127,7 +132,7 @@ AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* c
   const Vec3 perp = d - dot(d, h) * h;
   const double pn = norm(perp);
   if (!(pn >= kParallelSin * (sd > 1.0 ? sd : 1.0) && pn < HUGE_VAL)) {
-    Rng side(seed, Stream::kSteerPerpendicular, neuron, step);
+    Rng side(seed, Stream::kSteerPerpendicular, neuron, decision);
     return {turn(h, perpendicular_direction(h, side), true, p), along};
   }
   return {turn(h, perp / pn, true, p), along};
@@ -135,8 +140,8 @@ AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* c
 
 // The combined evidence of every detected cue (see the top of this file).
 AXG_HDI Steered snr_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
-                          const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t step) {
-  if (p.noise == NoiseForm::kCount) return count_steer(h, samples, cues, cue_count, sp, p, seed, neuron, step);
+                          const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t decision) {
+  if (p.noise == NoiseForm::kCount) return count_steer(h, samples, cues, cue_count, sp, p, seed, neuron, decision);
   Vec3 e{0.0, 0.0, 0.0};
   double along = 0.0;
   bool any = false;
@@ -155,10 +160,10 @@ AXG_HDI Steered snr_steer(Vec3 h, const CueSample* samples, const CueParams* cue
   }
   if (!any) return {h, 0.0};
   const double strength = norm(e);
-  Rng decision(seed, Stream::kSteerDecision, neuron, step);
-  const bool toward = strength + normal(decision) > 0.0;
+  Rng draw(seed, Stream::kSteerDecision, neuron, decision);
+  const bool toward = strength + normal(draw) > 0.0;
   if (!(strength >= kParallelSin && strength < HUGE_VAL)) {
-    Rng side(seed, Stream::kSteerPerpendicular, neuron, step);
+    Rng side(seed, Stream::kSteerPerpendicular, neuron, decision);
     return {turn(h, perpendicular_direction(h, side), toward, p), along};
   }
   return {turn(h, e / strength, toward, p), along};
@@ -177,8 +182,8 @@ AXG_HDI Vec3 vector_sum_turn(Vec3 h, Vec3 pull, const SteerParams& p) {
 // stencil.hpp). Cues outside their detection window are ignored.
 AXG_HDI Steered steer_axon(Vec3 h, const CueSample* samples, const Vec3* pull, const CueParams* cues, int cue_count,
                            const SenseParams& sp, const SteerParams& p, std::uint64_t seed, std::uint32_t neuron,
-                           std::uint32_t step) {
-  if (p.model == GuidanceModel::kSnr) return snr_steer(h, samples, cues, cue_count, sp, p, seed, neuron, step);
+                           std::uint32_t decision) {
+  if (p.model == GuidanceModel::kSnr) return snr_steer(h, samples, cues, cue_count, sp, p, seed, neuron, decision);
   if (p.model == GuidanceModel::kVectorSum || p.model == GuidanceModel::kSourceVectorSum) {
     Vec3 total{0.0, 0.0, 0.0};
     for (int k = 0; k < cue_count; ++k)

@@ -14,6 +14,7 @@
 #include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/wander.hpp"
+#include "axonguide/model/steering.hpp"
 #include "axonguide/scene/scene.hpp"
 
 namespace axg {
@@ -34,6 +35,7 @@ struct AxonArrays {
   std::uint32_t* target;        // kNoNeuron unless connected
   double* signal = nullptr;            // kSignalSpecies per slot: the axon's network
   const double* inhibition = nullptr;  // by neuron id: the inhibitory signal its network reads
+  double* sums = nullptr;              // sums_per_axon() per slot: the open decision interval's sums
 };
 
 // The first axon (lowest neuron id) whose signalling step failed in a stage, or none.
@@ -75,10 +77,11 @@ class AxonStages {
   AxonStages(const AxonStages&) = delete;  // guide_ points into cues_
   AxonStages& operator=(const AxonStages&) = delete;
 
-  // Stage 2: every listed axon samples every cue at its tip and makes its one turn (and,
-  // with growth-rate modulation, sets its step length; with the signalling model,
-  // integrates its network over the step, which sets its step length). Returns the first
-  // signalling failure (lowest neuron id), if any.
+  // Stage 2: every listed axon samples every cue at its tip and adds the samples to its
+  // decision interval's sums; the step that closes the interval turns the heading on their
+  // mean (and, with growth-rate modulation, sets the step length); with the signalling
+  // model, every step integrates the axon's network, which sets its step length
+  // (core/guide.hpp). Returns the first signalling failure (lowest neuron id), if any.
   SignallingFailure steer(const CueField& field, const std::vector<std::uint32_t>& slots, AxonArrays a,
                           std::uint32_t step) const;
 
@@ -95,6 +98,8 @@ class AxonStages {
   // The inhibitory signal from the receptors (soma_signals' second half; also on resume).
   void inhibition_from(const double* receptors, double* inhibition, std::size_t n) const;
   bool signalling() const { return signalling_; }
+  // Doubles of decision-interval sums each axon keeps (0 when every interval is one step).
+  std::size_t sums_per_axon() const { return sums_per_axon_; }
   // Whether axons carry their own step length (modulation or signalling).
   bool own_step_lengths() const { return modulated_ || signalling_; }
   // Stages 3-5: every listed axon still growing moves, tests contact against `somas` and
@@ -117,6 +122,8 @@ class AxonStages {
   std::vector<Population> populations_;
   std::vector<core::CueParams> cues_;
   core::GuideParams guide_;  // its cue pointer is cues_' data
+  DecisionClock clock_;
+  std::size_t sums_per_axon_ = 0;
 };
 
 }  // namespace axg

@@ -57,6 +57,9 @@ struct EngineState {
   // The signalling model: each axon's network (core::kSignalSpecies per neuron, by id) and
   // the cell-body receptors of each neuron.
   std::vector<double> signal, receptors;
+  // The sums of the open decision interval (core::kSumsPerCue per cue per neuron, by id);
+  // empty when every interval is one step.
+  std::vector<double> guidance;
 };
 
 // Wall-clock time per (step, phase): the only output allowed to vary between runs.

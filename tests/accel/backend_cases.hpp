@@ -212,6 +212,23 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
          s.cues.particles.amount *= 64000.0;  // per um^3: the same concentrations
          for (Source& src : s.cues.sources) src.diffusion *= 1600.0 / s.dt;
        }},
+      {"particles-count-integrated", [](Scene& s) {
+         // Decisions over four steps of half a time unit: the sums per axon and cue.
+         s.dt = 0.5;
+         s.axons.step_length = 0.175;
+         s.guidance.integration_time = 2.0;
+       }},
+      {"grid-binding-integrated-unwhole", [](Scene& s) {
+         // T = 2.5 steps: intervals of 2 and 3 steps, a vector pull and growth modulation.
+         s.cues.field = FieldKind::kGrid;
+         s.guidance.noise = NoiseForm::kBinding;
+         s.guidance.integration_time = 2.5;
+         s.axons.growth_modulation = 0.4;
+       }},
+      {"particles-source-vector-sum-integrated", [](Scene& s) {
+         s.guidance.model = GuidanceModel::kSourceVectorSum;
+         s.guidance.integration_time = 3.0;
+       }},
       {"particles-mixed-sources", [](Scene& s) {
          Source a = with_position(Source{}, {1.0, 0.0, 0.0});
          Source b = with_position(repellent(Source{}), {-1.0, 1.0, 0.0});
@@ -329,6 +346,8 @@ inline rc::Gen<Scene> gen_cue_scene() {
     else s.axons.persistence_length = *rc::gen::inRange(1, 200) / 10.0;
     if (s.guidance.model == GuidanceModel::kSnr && *rc::gen::arbitrary<bool>())
       s.axons.growth_modulation = *rc::gen::inRange(1, 100) / 100.0;
+    // Decisions over 1 to 4 steps, whole or not (each axon's sums on the device).
+    if (*rc::gen::arbitrary<bool>()) s.guidance.integration_time = s.dt * *rc::gen::inRange(2, 9) / 2.0;
     // Linear only at 1 % per length unit: non-negative over any generated domain (R_b <= 12).
     s.cues.imposed.profile = *rc::gen::element(ImposedProfile::kLinear, ImposedProfile::kExponential);
     s.cues.imposed.steepness = s.cues.imposed.profile == ImposedProfile::kLinear ? 1.0 : *rc::gen::inRange(0, 200);

@@ -156,6 +156,8 @@ rc::Gen<Scene> gen_decomposable_scene() {
       g.neurons.count = *rc::gen::inRange<std::uint64_t>(1, 600);
       g.output.paths = s.output.paths;
       if (*rc::gen::arbitrary<bool>()) g.axons.growth_modulation = *rc::gen::inRange(1, 9) / 10.0;
+      // Decisions over 1 to 4 steps, whole or not (the sums travel with migrating axons).
+      if (*rc::gen::arbitrary<bool>()) g.guidance.integration_time = g.dt * *rc::gen::inRange(2, 9) / 2.0;
       s = g;
     }
     s.output.graphml = true;
@@ -224,6 +226,7 @@ rc::Gen<Scene> gen_cue_field_scene() {
       s.cues.grid.spacing = *rc::gen::element(0.2, 0.3, 0.45);
       if (s.cues.grid.scheme == GridScheme::kImplicit) s.cues.grid.substeps = *rc::gen::inRange<std::uint32_t>(1, 3);
     }
+    if (*rc::gen::arbitrary<bool>()) s.guidance.integration_time = s.dt * *rc::gen::inRange(2, 9) / 2.0;
     return s;
   });
 }
@@ -358,6 +361,7 @@ TEST(decomposed, CheckpointFromSomeRanksResumesOnOthers) {
   s.neurons.radius = 7.0;
   s.steps = 30;
   s.axons.growth_modulation = 0.5;
+  s.guidance.integration_time = 3.0;  // the checkpoint at step 20 falls inside a decision interval
   s.output.paths = true;
   s.output.checkpoint_every = 10;
   const auto expected = one_process(s);

@@ -89,6 +89,8 @@ RC_GTEST_PROP(fields, RandomCueScenesAreThreadInvariant, ()) {
   s.cues.grid.spacing = std::max(0.2, s.bounds_radius() / 12);
   s.cues.grid.scheme = *rc::gen::element(GridScheme::kExplicit, GridScheme::kImplicit);
   s.cues.grid.boundary = *rc::gen::element(GridBoundary::kAbsorbing, GridBoundary::kReflecting);
+  s.guidance.noise = *rc::gen::element(NoiseForm::kCount, NoiseForm::kBinding, NoiseForm::kSnapshot);
+  if (*rc::gen::arbitrary<bool>()) s.guidance.integration_time = s.dt * *rc::gen::inRange(2, 9) / 2.0;
   std::map<std::string, std::string> one;
   try {
     one = test::run_hashes(s, 1);

@@ -278,7 +278,17 @@ int cmd_fit(const FitArgs& args) {
   o.refine_rounds = args.refine;
   o.run.make_engine = engine_factory(args.backend);
   const auto t0 = std::chrono::steady_clock::now();
+  if (::isatty(STDERR_FILENO) == 1)  // a progress line on a terminal, as run and sweep show
+    o.on_evaluation = [t0](std::size_t evaluations, double best) {
+      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (std::isfinite(best))
+        std::fprintf(stderr, "\r\033[Kfit %zu evaluations  best chi2 %.6g  %.1f s", evaluations, best, el);
+      else
+        std::fprintf(stderr, "\r\033[Kfit %zu evaluations  %.1f s", evaluations, el);
+      std::fflush(stderr);
+    };
   const fit::Result r = fit::fit(base, args.scene_path, data, o);
+  if (o.on_evaluation) std::fprintf(stderr, "\n");
   const double fit_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // The fitted curve: a dense concentration grid for each steepness of the data (model

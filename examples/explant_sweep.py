@@ -11,7 +11,7 @@ memory, and plots summary's bias_mean with its two-sided 95 % Student-t interval
 seeds (bias_ci_low, bias_ci_high); the control's intervals should cover 0. --quick runs a
 small version (200 neurons, 40 steps, the control and one steepness, 4 concentrations,
 3 seeds; well under a second) for tests. See docs/methods.md
-§12 (the assay and its metrics) and §13 (the Python API).
+§12 (the assay and its metrics) and docs/guide.md §2 (the Python API).
 """
 
 import argparse

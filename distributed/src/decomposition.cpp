@@ -58,7 +58,8 @@ Decomposition decompose(const Scene& scene, int ranks) {
   std::string set_by = fmt::format("one step's contact search: step {:.4g} + soma radius + contact distance", d.max_step);
   if (scene.uses_cues() && scene.cues.field == FieldKind::kParticles && particle_grid_used(scene)) {
     const bool gathers = sense_params(scene).sensing != core::ParticleSensing::kEstimate;
-    const double gather = std::max(gathers ? scene.guidance.sensing_radius : 0.0,
+    // A gather reads the particles within r of the sample point, half a step ahead of the tip.
+    const double gather = std::max(gathers ? scene.guidance.sensing_radius + 0.5 * d.max_step : 0.0,
                                    scene.cues.particles.collisions ? 2.0 * scene.cues.particles.radius : 0.0);
     d.particle_halo = gather * 1.001;
     if (d.particle_halo > d.halo) {
@@ -68,13 +69,14 @@ Decomposition decompose(const Scene& scene, int ranks) {
   }
   if (scene.uses_cues() && scene.cues.field == FieldKind::kGrid) {
     // Slabs over the grid's cube (the field's work; somas beyond it belong to the outer
-    // slabs), each at least as thick as the three ghost planes its neighbours keep.
+    // slabs), each at least as thick as the ghost planes its neighbours keep.
     const GridGeometry3 g = grid_field_geometry(scene);
+    const int ghosts = grid_ghost_planes(scene);
     d.slabs = true;
     d.half = 0.5 * (g.n - 1) * g.h + 0.5 * g.h;
-    if (3.0 * g.h * 1.001 > d.halo) {
-      d.halo = 3.0 * g.h * 1.001;
-      set_by = "three grid planes of ghost nodes";
+    if (ghosts * g.h * 1.001 > d.halo) {
+      d.halo = ghosts * g.h * 1.001;
+      set_by = fmt::format("{} grid planes of ghost nodes", ghosts);
     }
   }
 

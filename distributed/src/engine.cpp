@@ -174,15 +174,23 @@ class DecomposedEngine final : public Engine {
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     const Traffic before = comm_.traffic();
+    // Under the continuum rule the axons steer after they move (core/guide.hpp, sample_point).
+    const bool after = stages_.steers_after_move();
     if (field_) {
       field_->advance(scene_.cues.warmup_steps + step, times);
-      ScopedPhase p(times, step, "steer");
-      stages_.steer(*field_, grow_.slots, grow_.arrays(), step);
+      if (!after) {
+        ScopedPhase p(times, step, "steer");
+        stages_.steer(*field_, grow_.slots, grow_.arrays(), step);
+      }
     }
     GrowthCounts c;
     {
       ScopedPhase p(times, step, "grow");
       c = stages_.grow(grid_.view(), grow_.slots, grow_.arrays(), step);
+    }
+    if (field_ && after) {
+      ScopedPhase p(times, step, "steer");
+      stages_.steer(*field_, grow_.slots, grow_.arrays(), step);
     }
     {
       ScopedPhase p(times, step, "migrate");

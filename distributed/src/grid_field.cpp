@@ -35,8 +35,6 @@ namespace axg::distributed {
 
 namespace {
 
-inline constexpr int kGhosts = 3;  // ghost planes each side for sensing (the stencil needs 1)
-
 // The planes rank r owns: those whose z coordinate falls in its slab (monotone in the
 // plane: slabs are ranges); rank r owns [first[r], first[r + 1]).
 std::vector<int> slab_starts(const Scene& scene, const Decomposition& d, int ranks) {
@@ -56,16 +54,18 @@ std::vector<int> slab_starts(const Scene& scene, const Decomposition& d, int ran
   return first;
 }
 
-GridFieldStages::Slab rank_slab(const std::vector<int>& first, int rank, int n) {
+GridFieldStages::Slab rank_slab(const std::vector<int>& first, int rank, int n, int ghosts) {
   const int z0 = first[static_cast<std::size_t>(rank)], z1 = first[static_cast<std::size_t>(rank) + 1];
-  return {z0, z1, std::max(0, z0 - kGhosts), std::min(n, z1 + kGhosts)};
+  return {z0, z1, std::max(0, z0 - ghosts), std::min(n, z1 + ghosts)};
 }
 
 class DecomposedGridField final : public GridFieldStages {
  public:
   DecomposedGridField(const Scene& scene, const std::vector<core::CueParams>& cues, const Decomposition& d,
                       Comm& comm, FieldReport& report, std::vector<int> first)
-      : GridFieldStages(scene, cues, rank_slab(first, comm.rank(), grid_field_geometry(scene).n)),
+      : GridFieldStages(scene, cues,
+                        rank_slab(first, comm.rank(), grid_field_geometry(scene).n, grid_ghost_planes(scene))),
+        ghosts_(grid_ghost_planes(scene)),
         comm_(comm),
         rank_(comm.rank()),
         ranks_(comm.size()),
@@ -75,9 +75,9 @@ class DecomposedGridField final : public GridFieldStages {
         z1_(slab_.z1) {
     if (!d.slabs) throw RunError("decomposed grid field: the decomposition is not in slabs along z");
     for (int r = 0; r < ranks_; ++r)
-      if (first_[static_cast<std::size_t>(r) + 1] - first_[static_cast<std::size_t>(r)] < kGhosts && ranks_ > 1)
+      if (first_[static_cast<std::size_t>(r) + 1] - first_[static_cast<std::size_t>(r)] < ghosts_ && ranks_ > 1)
         throw RunError("decomposed grid field: a slab holds fewer planes than its ghost layers (the halo rule "
-                       "keeps slabs three planes thick; this is a bug)");
+                       "keeps slabs as thick as the ghosts; this is a bug)");
     if (rank_ > 0) peers_.push_back(rank_ - 1);
     if (rank_ + 1 < ranks_) peers_.push_back(rank_ + 1);
     if (peers_ != d.neighbours(rank_)) throw RunError("decomposed grid field: slab neighbours are not r - 1, r + 1");
@@ -132,7 +132,7 @@ class DecomposedGridField final : public GridFieldStages {
   // rounding of a slab face that lies on a plane.
   void stepped(std::uint32_t step, PhaseTimes& times) override {
     ScopedPhase p(times, step, "grid.ghosts");
-    for (std::size_t k = 0; k < cues_.size(); ++k) exchange_ghosts(values(k, cur_[k]), kGhosts);
+    for (std::size_t k = 0; k < cues_.size(); ++k) exchange_ghosts(values(k, cur_[k]), ghosts_);
   }
 
   // `width` planes each side from the neighbours' owned planes.
@@ -255,6 +255,7 @@ class DecomposedGridField final : public GridFieldStages {
     }
   }
 
+  int ghosts_;  // planes each side: grid_ghost_planes
   Comm& comm_;
   int rank_, ranks_;
   FieldReport& report_;

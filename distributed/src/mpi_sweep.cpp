@@ -1,5 +1,5 @@
 // Sweeps over MPI ranks: rank 0 schedules and records, the others run members
-// (docs/methods.md §14.1). Messages are JSON text (a member index, a record); a record
+// (docs/guide.md §3.1). Messages are JSON text (a member index, a record); a record
 // carries its result exactly (sweep::record_json / result_from_record).
 #include "axonguide/distributed/mpi_sweep.hpp"
 

@@ -1,4 +1,4 @@
-"""axonguide: deterministic simulation of axon growth and guidance (docs/methods.md §13).
+"""axonguide: deterministic simulation of axon growth and guidance (docs/guide.md §2).
 
     import axonguide
     scene = axonguide.Scene("scenes/assay-explant.json")     # or a dict, JSON text, a Path

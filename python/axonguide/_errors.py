@@ -1,4 +1,4 @@
-"""The exceptions of axonguide (docs/methods.md §13), and the checks of arguments that raise
+"""The exceptions of axonguide (docs/guide.md §2), and the checks of arguments that raise
 them."""
 
 import math

@@ -1,4 +1,4 @@
-"""axonguide.run and its Result (docs/methods.md §13)."""
+"""axonguide.run and its Result (docs/guide.md §2)."""
 
 import os
 import pathlib
@@ -58,7 +58,7 @@ def run(scene=None, threads=None, backend="reference", seed=None):
 
 
 class Result:
-    """A finished run: the values of its output files as NumPy arrays (docs/methods.md §13)."""
+    """A finished run: the values of its output files as NumPy arrays (docs/guide.md §2)."""
 
     def __init__(self, handle):
         self._h = handle

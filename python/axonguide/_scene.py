@@ -1,4 +1,4 @@
-"""axonguide.Scene: a validated scene (docs/methods.md §3, §13)."""
+"""axonguide.Scene: a validated scene (docs/methods.md §3, docs/guide.md §2)."""
 
 import errno
 import json

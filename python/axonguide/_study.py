@@ -1,4 +1,4 @@
-"""Sweeps and the fit from Python (docs/methods.md §12, §13)."""
+"""Sweeps and the fit from Python (docs/methods.md §12, docs/guide.md §2)."""
 
 import io
 import numbers

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the translation units of axonguide._core (docs/methods.md §13).
+// Shared by the translation units of axonguide._core (docs/guide.md §2).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

@@ -1,4 +1,4 @@
-// axonguide._core: scenes, runs and their results (docs/methods.md §13). The pure-Python
+// axonguide._core: scenes, runs and their results (docs/guide.md §2). The pure-Python
 // package (python/axonguide/) wraps these in Scene and Result.
 #include <Python.h>
 

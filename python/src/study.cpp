@@ -1,4 +1,4 @@
-// axonguide._core: sweeps, assay metrics and the fit (docs/methods.md §12, §13).
+// axonguide._core: sweeps, assay metrics and the fit (docs/methods.md §12, docs/guide.md §2).
 #include <cmath>
 #include <cstdint>
 #include <filesystem>

@@ -185,11 +185,12 @@ echo '{"neurons": {"count": 20, "region": {"radius": 1.2}}, "guidance": {"model"
 refuse 2 'narrower than the halo' 5 small.json --out small
 [ ! -e small ] || fail "a refused run made its folder"
 # The particles' sensing radius sets the halo of source_vector_sum's gathers; a grid scene
-# is cut in slabs along z, each at least three planes thick.
+# is cut in slabs along z, each at least as thick as its ghost planes (the sensing ball
+# and half a step beyond it).
 /usr/bin/python3 -c "import json; s=json.load(open('particles-source-vector-sum.json')); \
 s['guidance']['sensing_radius']=4.0; json.dump(s, open('wide.json', 'w'))"
 refuse 2 'the particles within the sensing radius.*at most 1 rank)' 2 wide.json --out wide
-refuse 2 'at most 11 slabs along z' 12 grid-implicit-absorbing-snr.json --out slabs
+refuse 2 'at most 7 slabs along z' 12 grid-implicit-absorbing-snr.json --out slabs
 # A checkpoint of another scene in the folder: exit 2, and the folder is left as it was.
 cp swap-plong/checkpoint.axg swap-glong/checkpoint.axg
 files() { (cd "$1" && find . -type f ! -name .axonguide.lock -exec sha256sum {} + | sort); }  # the dead run's lock goes

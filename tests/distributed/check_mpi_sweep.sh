@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Sweeps over MPI ranks (docs/methods.md §14.1), on localhost:
+# Sweeps over MPI ranks (docs/guide.md §3.1), on localhost:
 #  - mpirun -np 1, 2 and 3 write sweep.csv, summary.csv and sweep.json with the bytes of the
 #    one-process sweep;
 #  - a rank killed while it runs a member (AXG_FAULT_KILL_AT) costs that member: with

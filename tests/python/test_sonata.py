@@ -1,4 +1,4 @@
-"""SONATA output (docs/methods.md §7.2) read back by real clients: h5py, and PyNN's
+"""SONATA output (docs/guide.md §1.2) read back by real clients: h5py, and PyNN's
 import_from_sonata with its mock backend (no NEST here). Every number is compared exactly
 with neurons.csv, connections.csv and bfs.csv of the same run.
 

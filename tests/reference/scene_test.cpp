@@ -409,7 +409,15 @@ RC_GTEST_PROP(scene, AcceptedModelOptionsRoundTrip, ()) {
   } else {
     s.guidance.integration_time = s.dt * (1.0 + *rc::gen::inRange(0, 64) / 8.0);
     s.guidance.sensing_radius = std::max(s.guidance.sensing_radius, s.axons.step_length * (1.0 + s.axons.growth_modulation));
+    // A molecule-resolved count samples the ball faster than a molecule crosses it.
+    double fastest = 0.0;
+    for (const Source& src : s.cues.sources) fastest = std::max(fastest, src.diffusion);
+    if (s.cues.particles.molecules)
+      s.guidance.sensing_radius = std::max(s.guidance.sensing_radius, std::sqrt(6.0 * fastest * s.dt) * 1.001);
   }
+  // The estimate's mesh resolves the sensing ball.
+  if (s.cues.particles.estimate.spacing)
+    s.cues.particles.estimate.spacing = std::min(*s.cues.particles.estimate.spacing, s.guidance.sensing_radius);
   if (*rc::gen::arbitrary<bool>()) s.guidance.receptor_time = *rc::gen::inRange(0, 1000) / 16.0;
   const std::string text = scene_to_json(s).dump();
   const Scene back = parse_scene(text, "t").scene;

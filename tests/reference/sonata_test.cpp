@@ -1,4 +1,4 @@
-// SONATA output (docs/methods.md §7.2): the five files under network/, byte for byte the
+// SONATA output (docs/guide.md §1.2): the five files under network/, byte for byte the
 // same for 1 and 2 threads, for a second run in the same process and a second write a
 // second later (no HDF5 timestamps), and listed in a manifest that verifies. What the
 // files say is checked by tests/python/test_sonata.py with h5py and PyNN.

@@ -45,6 +45,9 @@ Scene source_scene(double emission, double amount) {
   s.neurons.radius = kDomain;
   s.guidance.model = GuidanceModel::kSnr;
   s.guidance.sensing_radius = 0.3;
+  // The fields are checked at points: C and grad C at the tip (binding reads them there; the
+  // count form's ball average is checked in validate guidance).
+  s.guidance.noise = NoiseForm::kBinding;
   s.cues.field = FieldKind::kParticles;
   Source src;
   src.position = Vec3{0, 0, 0};
@@ -426,7 +429,7 @@ std::vector<Row> grid_study(const Options& o, std::vector<std::vector<std::strin
       for (const Vec3& p : pts) {
         core::CueSample samples[core::kMaxCues];
         Vec3 pull[core::kMaxCues];
-        core::sample_grid_field(p, set, cues.data(), 1, samples, pull);
+        core::sample_grid_field(p, set, cues.data(), 1, core::SenseParams{}, samples, pull);  // at the point
         unsplit.push_back(samples[0]);
       }
       rows.push_back({"unsplit steady state (Eigen CG)", h, 0, rms_error(unsplit, exact), seconds_since(t0),

@@ -660,7 +660,7 @@ const std::vector<core::NoiseForm> kForms{core::NoiseForm::kCount, core::NoiseFo
 
 ExplantStudy explant_study(const Options& o, AnalyticCache& analytic, double default_amount, double default_h) {
   ExplantStudy st;
-  const int particle_seeds = o.quick ? 4 : 8, grid_seeds = o.quick ? 2 : 4;
+  const int particle_seeds = o.quick ? 6 : 8, grid_seeds = o.quick ? 2 : 4;
   struct Family {
     FieldKind field;
     GridScheme scheme;
@@ -1184,26 +1184,20 @@ void work_precision(const Options& o, Report& r, const ExplantStudy& explant_st)
   r.check({"default scene: every field's connection set converges (self-distance falls with resolution)", self_ok,
            self_ok ? std::string("falls for every field") : "does not fall for: " + self_note,
            "distance at the second-finest level below the coarsest", self_ok ? "yes" : "no"});
-  // (b) the default amount is the cheapest within item 3's criterion
-  bool cheapest = true;
-  std::string why;
+  // (b) Whether the default amount is also the cheapest level within item 3's criterion is
+  // reported, not required: the defaults follow a stated rule and are not tuned on one scene
+  // (issue 40); `validate continuum` refines them on several.
   {
-    bool default_within = true, coarser_within = true;
+    bool coarser_within = true;
     for (const ExplantRow& e : explant_st.rows) {
-      if (e.method != "particles" || (e.level != 0 && e.level != -1)) continue;
+      if (e.method != "particles" || e.level != -1) continue;
       const double ref = e.p.index.mean - e.p.gap.mean;
-      const bool within = std::fabs(e.p.gap.mean) <= std::max(0.1 * std::fabs(ref), 2.0 * e.p.gap.se);
-      if (e.level == 0) default_within = default_within && within;
-      else coarser_within = coarser_within && within;
+      coarser_within = coarser_within && std::fabs(e.p.gap.mean) <= std::max(0.1 * std::fabs(ref), 2.0 * e.p.gap.se);
     }
-    if (!default_within || coarser_within) {
-      cheapest = false;
-      why = fmt::format("default within: {}, next coarser within: {}", default_within, coarser_within);
-    }
+    r.text(fmt::format("Half the default particles (level -1) {} within max(10 %, 2 SE) of the analytic index under "
+                       "every form; the default amount is a rule, not the cheapest level that passes this explant.",
+                       coarser_within ? "is also" : "is not"));
   }
-  r.check({"the particle field's default amount is the cheapest level within max(10 %, 2 SE) under every form", cheapest,
-           cheapest ? std::string("level 0 within, level -1 not") : why, "level 0 within, level -1 not",
-           cheapest ? "yes" : "no"});
   r.plot("guidance_work_precision.py", {"guidance_explant.csv", "guidance_analytic_seeds.csv", "guidance_connections.csv"},
          "guidance_work_precision.png",
          "Error against run time for guidance. Left: the explant's index error (binding) for every field and "

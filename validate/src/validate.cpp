@@ -29,6 +29,7 @@ const Study kStudies[] = {
     {"stiff", "Stiff and extreme cases", validate_stiff},
     {"turning", "The SNR turning model", validate_turning},
     {"guidance", "Particle sensing and guidance: flat field, convergence, persistence", validate_guidance},
+    {"continuum", "Guidance with a continuum limit: every numerical parameter refined", validate_continuum},
     {"assay", "The explant assay: control, steepness, peak concentration", validate_assay},
     {"bfs", "BFS and components against Boost.Graph", validate_bfs},
     {"gpu", "Reference against the CUDA accelerator", validate_gpu},

@@ -188,6 +188,14 @@ class AccelEngine final : public Engine {
     }
   }
 
+  void steer(std::uint32_t step, PhaseTimes& times) {
+    ScopedPhase p(times, step, "steer");
+    launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(),
+                                 sums_.empty() ? nullptr : raw(sums_), sums_per_axon_, fields(), guide_,
+                                 signal_arrays(), clock_.at(step)});
+    if (scene_.signalling()) check_signalling(step);
+  }
+
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     if (scene_.uses_cues()) {
       advance_field(scene_.cues.warmup_steps + step, times);
@@ -195,17 +203,15 @@ class AccelEngine final : public Engine {
         ScopedPhase p(times, step, "signalling.somas");
         soma_signals(false);
       }
-      ScopedPhase p(times, step, "steer");
-      launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(),
-                                   sums_.empty() ? nullptr : raw(sums_), sums_per_axon_, fields(), guide_,
-                                   signal_arrays(), clock_.at(step)});
-      if (scene_.signalling()) check_signalling(step);
+      if (!guide_.after_move) steer(step, times);
     }
     {
       ScopedPhase p(times, step, "grow");
       launch(active_.size(), Grow{raw(active_), raw(ids_), growth_, wander_, step_lengths(), scene_.seed, somas_view(),
                                   step, raw(tip_), raw(heading_), raw(length_), raw(status_), raw(steps_), raw(target_)});
     }
+    // Under the continuum rule the axons steer after they move (core/guide.hpp, sample_point).
+    if (scene_.uses_cues() && guide_.after_move) steer(step, times);
     {
       ScopedPhase p(times, step, "compact");
       stats_.connected += static_cast<std::uint64_t>(thrust::count_if(

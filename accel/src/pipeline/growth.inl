@@ -36,7 +36,7 @@ AXG_HDI void sample_fields(Vec3 x, const CueFields& fields, core::CueSample* sam
                                   samples, pull);
       break;
     case core::FieldKind::kGrid:
-      core::sample_grid_field(x, fields.grids, fields.d_cues, fields.cue_count, samples, pull);
+      core::sample_grid_field(x, fields.grids, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
       break;
     case core::FieldKind::kAnalytic:
       core::sample_analytic_field(x, fields.d_cues, fields.cue_count, fields.sense, samples, pull);
@@ -78,7 +78,8 @@ struct Steer {
     const std::uint32_t k = d_active[a];
     core::CueSample samples[core::kMaxCues];
     Vec3 pull[core::kMaxCues];
-    sample_fields(d_tip[k], fields, samples, pull);
+    sample_fields(core::sample_point(guide, d_tip[k], d_heading[k], d_step_length ? d_step_length + k : nullptr), fields,
+                  samples, pull);
     const core::GuidedAxon axon{d_heading + k, d_step_length ? d_step_length + k : nullptr,
                                 signal.d_signal ? signal.d_signal + static_cast<std::size_t>(k) * core::kSignalSpecies : nullptr,
                                 signal.d_signal ? signal.d_inhibition[d_ids[k]] : 0.0,

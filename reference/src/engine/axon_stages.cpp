@@ -51,7 +51,8 @@ SignallingFailure AxonStages::steer(const CueField& field, const std::vector<std
         core::Vec3 pull[core::kMaxCues];
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
           const std::uint32_t k = slots[s];
-          field.sample(a.tip[k], samples, pull);
+          field.sample(core::sample_point(guide_, a.tip[k], a.heading[k], a.step_length ? &a.step_length[k] : nullptr),
+                       samples, pull);
           const core::GuidedAxon axon{&a.heading[k], a.step_length ? &a.step_length[k] : nullptr,
                                       a.signal ? a.signal + static_cast<std::size_t>(k) * core::kSignalSpecies : nullptr,
                                       a.inhibition ? a.inhibition[a.id[k]] : 0.0,

@@ -156,17 +156,23 @@ class ReferenceEngine final : public Engine {
   }
 
   // The pipeline of SPEC §3.2: (1) cue fields advance, (2) sense and steer, (3) move,
-  // (4) contact and bounds; then the growing axons are compacted.
+  // (4) contact and bounds; then the growing axons are compacted. Under the continuum rule
+  // (2) follows (3) and (4) (core/guide.hpp, sample_point).
+  void steer(std::uint32_t step, PhaseTimes& times) {
+    ScopedPhase p(times, step, "steer");
+    const SignallingFailure failed = stages_.steer(*field_, active_, arrays(), step);
+    if (failed.neuron != core::kNoNeuron) throw_signalling_failure(scene_, failed, step);
+  }
+
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
+    const bool after = stages_.steers_after_move();
     if (field_) {
       field_->advance(scene_.cues.warmup_steps + step, times);
       if (stages_.signalling()) {
         ScopedPhase p(times, step, "signalling.somas");
         stages_.soma_signals(*field_, soma_, receptors_.data(), inhibition_.data(), false);
       }
-      ScopedPhase p(times, step, "steer");
-      const SignallingFailure failed = stages_.steer(*field_, active_, arrays(), step);
-      if (failed.neuron != core::kNoNeuron) throw_signalling_failure(scene_, failed, step);
+      if (!after) steer(step, times);
     }
     {
       ScopedPhase p(times, step, "grow");
@@ -174,6 +180,7 @@ class ReferenceEngine final : public Engine {
       stats_.connected += c.connected;
       stats_.exited += c.exited;
     }
+    if (field_ && after) steer(step, times);
     {
       ScopedPhase p(times, step, "compact");
       compact_active();

@@ -24,6 +24,7 @@ namespace axg {
 
 GridFieldStages::GridFieldStages(const Scene& scene, const std::vector<core::CueParams>& cues, Slab slab)
     : cues_(cues),
+      sense_(sense_params(scene)),
       geometry_(grid_field_geometry(scene)),
       scheme_(scene.cues.grid.scheme),
       reflecting_(scene.cues.grid.boundary == GridBoundary::kReflecting),
@@ -53,7 +54,7 @@ void GridFieldStages::advance(std::uint32_t step, PhaseTimes& times) {
 void GridFieldStages::sample(core::Vec3 x, core::CueSample* samples, core::Vec3* pull) const {
   core::GridFieldSet set{geometry_.origin, geometry_.h, geometry_.n, {}, slab_.g0};
   for (std::size_t k = 0; k < cues_.size(); ++k) set.c[k] = buffer_[cur_[k]].data() + k * slab_values_;
-  core::sample_grid_field(x, set, cues_.data(), static_cast<int>(cues_.size()), samples, pull);
+  core::sample_grid_field(x, set, cues_.data(), static_cast<int>(cues_.size()), sense_, samples, pull);
 }
 
 void GridFieldStages::sweep_z(double* c, double lambda) { lod_sweep_z(c, geometry_.n, lambda, reflecting_); }

@@ -1,5 +1,5 @@
 // A fresh run's folder: the steps `axonguide run` takes before and after the run itself,
-// shared with the Python module's Result.write (docs/methods.md §7.1).
+// shared with the Python module's Result.write (docs/guide.md §1.1).
 #include <cstdio>
 #include <exception>
 

@@ -1,4 +1,4 @@
-// SONATA output (docs/methods.md §7.2) through the HDF5 C API. Each HDF5 file is written
+// SONATA output (docs/guide.md §1.2) through the HDF5 C API. Each HDF5 file is written
 // under a temporary name, closed, synced and renamed, so it appears under its name only
 // when whole, and hashed from disk (HDF5 writes out of order).
 //

@@ -8,6 +8,7 @@
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/sensing.hpp"
+#include "axonguide/model/steering.hpp"
 #include "axonguide/scene/reader.hpp"
 #include "axonguide/scene/scene.hpp"
 #include "axonguide/support/error.hpp"
@@ -33,7 +34,11 @@ double estimate_spacing(const Scene& s) {
   return s.cues.particles.estimate.spacing.value_or(std::min(s.guidance.sensing_radius, 0.25 * s.bounds_radius()));
 }
 
-double estimate_time(const Scene& s) { return s.cues.particles.estimate.time.value_or(kEstimateSteps * s.dt); }
+double estimate_time(const Scene& s) {
+  if (s.cues.particles.estimate.time) return *s.cues.particles.estimate.time;
+  const DecisionClock clock = decision_clock(s);
+  return kEstimateIntervals * (clock.per_step ? s.dt : clock.time);
+}
 
 void check_estimate(const Scene& s) {
   const double rb = s.bounds_radius();
@@ -42,6 +47,28 @@ void check_estimate(const Scene& s) {
         "scene: cues.particles.estimate.spacing = {}: must be below the domain radius {} (the estimate's mesh needs "
         "cells)",
         estimate_spacing(s), rb));
+  if (!s.uses_cues() || s.cues.field != FieldKind::kParticles) return;
+  const core::SenseParams p = sense_params(s);
+  const double r = s.guidance.sensing_radius;
+  if (p.sensing == core::ParticleSensing::kEstimate && estimate_spacing(s) > r)
+    throw InputError(fmt::format("scene: cues.particles.estimate.spacing = {}: the estimate's mesh cannot resolve the "
+                                 "sensing ball of radius r = {} (guidance.sensing_radius); the largest spacing "
+                                 "allowed is r = {}",
+                                 estimate_spacing(s), r, r),
+                     "cues.particles.estimate.spacing", fmt::format("{}", estimate_spacing(s)),
+                     fmt::format("at most {}", r));
+  if (p.sensing == core::ParticleSensing::kMolecules && !decision_clock(s).per_step &&
+      s.cues.particles.motion == Motion::kBrownian) {
+    double fastest = 0.0;
+    for (const Source& src : s.cues.sources) fastest = std::max(fastest, src.diffusion);
+    const double crossing = r * r / (6.0 * fastest);
+    if (fastest > 0.0 && s.dt > crossing)
+      throw InputError(fmt::format("scene: dt = {}: a molecule-resolved count samples the sensing ball once per step, "
+                                   "and a molecule of diffusion {} crosses a ball of radius {} in r^2 / (6 D) = {:.6g}: "
+                                   "the sampling cannot resolve the ball; the largest dt allowed is {:.6g}",
+                                   s.dt, fastest, r, crossing, crossing),
+                       "dt", fmt::format("{}", s.dt), fmt::format("at most {:.6g}", crossing));
+  }
 }
 
 void check_estimate_mesh(const Scene& scene, const std::vector<core::CueParams>& cues) {

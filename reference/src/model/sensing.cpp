@@ -69,6 +69,8 @@ core::SenseParams sense_params(const Scene& scene) {
   p.cone_width = scene.guidance.growth_cone_width;
   p.analytic_rmin = 1e-3;
   p.imposed = imposed_params(scene);
+  // The count form's target is the molecules in the sensing ball (SPEC §3.5).
+  p.ball = scene.guidance.model == GuidanceModel::kSnr && scene.guidance.noise == NoiseForm::kCount;
   return p;
 }
 

@@ -245,6 +245,7 @@ core::GuideParams guide_params(const Scene& scene, const core::CueParams* cues, 
   }
   p.dt = scene.dt;
   p.seed = scene.seed;
+  p.after_move = !decision_clock(scene).per_step && !p.signalling;
   return p;
 }
 

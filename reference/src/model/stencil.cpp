@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include "axonguide/model/cues.hpp"
+#include "axonguide/model/growth.hpp"
+#include "axonguide/model/sensing.hpp"
 #include "axonguide/scene/reader.hpp"
 #include "axonguide/scene/scene.hpp"
 #include "axonguide/support/error.hpp"
@@ -119,6 +121,15 @@ core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams
   s.decay_dt = cue.decay * dt;
   s.reflecting = reflecting;
   return s;
+}
+
+int grid_ghost_planes(const Scene& scene) {
+  if (!sense_params(scene).ball) return 3;
+  // The sample point lies up to half a step ahead of the tip (core/guide.hpp, sample_point),
+  // the ball's points r beyond it, and their cells one plane further.
+  const double h = grid_spacing(scene);
+  const double reach = scene.guidance.sensing_radius + 0.5 * max_step_length(scene);
+  return std::max(3, static_cast<int>(std::ceil(reach / h)) + 1);
 }
 
 std::string grid_field_note(const Scene& scene, const std::vector<core::CueParams>& cues) {

@@ -531,6 +531,12 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
       if (!std::isfinite(chi2)) chi2 = kNaN;
       r.evaluations.push_back({sets[e], chi2, model, model_se});
     }
+    if (o.on_evaluation) {
+      double best = r.chi2;
+      for (std::size_t e = first; e < r.evaluations.size(); ++e)
+        if (r.evaluations[e].chi2 < best) best = r.evaluations[e].chi2;
+      o.on_evaluation(r.evaluations.size(), best);
+    }
     return first;
   };
   // Takes evaluation e as the best where it is lower (ties: the first evaluated).

@@ -1,5 +1,5 @@
 #pragma once
-// A sweep over MPI ranks (docs/methods.md §14.1). Rank 0 reads the verified records, hands
+// A sweep over MPI ranks (docs/guide.md §3.1). Rank 0 reads the verified records, hands
 // the members still to run to the other ranks one at a time (dynamic scheduling: a rank
 // gets the next member when it returns its last), records each result as it arrives and
 // writes sweep.csv, summary.csv and sweep.json: the same bytes as the one-process sweep,

@@ -71,6 +71,10 @@ struct SenseParams {
   double cone_width;      // w: growth-cone width, length units
   double analytic_rmin;   // length units: the analytic field is evaluated at max(r, rmin)
   ImposedParams imposed;
+  // The count form reads the sensing ball: the molecules' mean concentration in it and their
+  // dipole (a sample's c and an effective gradient g, whose count dipole is g V r / (5 m);
+  // sensing.hpp, ball_sample). The SNR forms read C and grad C at the tip.
+  bool ball;
 };
 
 struct SteerParams {

@@ -133,4 +133,13 @@ AXG_HDI CueSample estimate_sample(Vec3 x, const EstimateSet& s, int cue) {
   return {0.5 * (even.value + odd.value), even.grad, odd.grad};
 }
 
+// The estimate of cue k over the sensing ball of radius r (the count form's target;
+// mesh.hpp, mesh_ball_sample): the mean of the halves' means, the effective gradient of the
+// even half and that of the odd half.
+AXG_HDI CueSample estimate_ball_sample(Vec3 x, const EstimateSet& s, int cue, double r) {
+  const MeshSample even = mesh_ball_sample(x, estimate_half(s, cue, 0), r);
+  const MeshSample odd = mesh_ball_sample(x, estimate_half(s, cue, 1), r);
+  return {0.5 * (even.value + odd.value), even.grad, odd.grad};
+}
+
 }  // namespace axg::core

@@ -181,7 +181,7 @@ AXG_HDI void sample_particle_field(Vec3 x, const HashGridView& g, const Estimate
     return;
   }
   for (int k = 0; k < cue_count; ++k) {
-    samples[k] = estimate_sample(x, e, k);
+    samples[k] = p.ball ? estimate_ball_sample(x, e, k, p.radius) : estimate_sample(x, e, k);
     const CueSample both{samples[k].c, samples[k].grad + samples[k].grad_check, samples[k].grad};
     pull[k] = signed_unit_gradient(both, cues[k].sign);
   }

@@ -39,11 +39,19 @@ struct GridFieldSet {
 
 AXG_HDI GridFieldView cue_view(const GridFieldSet& s, int k) { return {s.origin, s.h, s.n, s.c[k], s.k0}; }
 
-// Every cue's value and signed unit gradient (its vector_sum pull) from the grids.
+// The sensing ball of radius r over a grid (mesh.hpp, mesh_ball_sample): the count form's
+// mean concentration and effective gradient.
+AXG_HDI CueSample grid_ball_sample(Vec3 x, const GridFieldView& g, double r) {
+  const MeshSample m = mesh_ball_sample(x, g, r);
+  return {m.value, m.grad, m.grad};
+}
+
+// Every cue's sample (at the tip, or over the sensing ball for the count form) and signed unit
+// gradient (its vector_sum pull) from the grids.
 AXG_HDI void sample_grid_field(Vec3 x, const GridFieldSet& set, const CueParams* cues, int cue_count,
-                               CueSample* samples, Vec3* pull) {
+                               const SenseParams& p, CueSample* samples, Vec3* pull) {
   for (int k = 0; k < cue_count; ++k) {
-    samples[k] = grid_sample(x, cue_view(set, k));
+    samples[k] = p.ball ? grid_ball_sample(x, cue_view(set, k), p.radius) : grid_sample(x, cue_view(set, k));
     pull[k] = signed_unit_gradient(samples[k], cues[k].sign);
   }
 }

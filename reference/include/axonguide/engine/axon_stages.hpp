@@ -102,6 +102,8 @@ class AxonStages {
   std::size_t sums_per_axon() const { return sums_per_axon_; }
   // Whether axons carry their own step length (modulation or signalling).
   bool own_step_lengths() const { return modulated_ || signalling_; }
+  // The continuum rule moves first, then steers (core/guide.hpp, sample_point).
+  bool steers_after_move() const { return guide_.after_move; }
   // Stages 3-5: every listed axon still growing moves, tests contact against `somas` and
   // the bounds, and its heading takes the random walk of the next step. Returns how many
   // connected and exited (integer sums: exact in any order).

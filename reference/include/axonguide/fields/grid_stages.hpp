@@ -14,6 +14,7 @@
 #include "axonguide/core/cues.hpp"
 #include "axonguide/core/stencil.hpp"
 #include "axonguide/fields/fields.hpp"
+#include "axonguide/model/sensing.hpp"
 #include "axonguide/model/stencil.hpp"
 
 namespace axg {
@@ -44,6 +45,7 @@ class GridFieldStages : public CueField {
   std::size_t buffer_bytes() const { return (buffer_[0].size() + buffer_[1].size()) * sizeof(double); }
 
   std::vector<core::CueParams> cues_;
+  core::SenseParams sense_;
   GridGeometry3 geometry_;
   GridScheme scheme_;
   bool reflecting_;

@@ -1,5 +1,5 @@
 #pragma once
-// SONATA output (output.sonata; docs/methods.md §7.2): the network as the neuroscience
+// SONATA output (output.sonata; docs/guide.md §1.2): the network as the neuroscience
 // tools read it. Under dir/network/: nodes.h5 (population "axonguide"), edges.h5
 // (population "axonguide_to_axonguide", one edge per connected axon, in connections.csv
 // order), node_types.csv, edge_types.csv and circuit_config.json. Positions and lengths

@@ -27,12 +27,17 @@ struct EstimateKeys {
 void read_estimate_keys(ObjectReader& particles, EstimateKeys& keys);
 void write_estimate_keys(const EstimateKeys& keys, nlohmann::json& particles);
 
-// Defaults: the sensing radius, at most a quarter of the domain radius; kEstimateSteps dt.
-inline constexpr double kEstimateSteps = 10.0;
+// Defaults, from the scene's physical scales (docs/methods.md §2.6): the spacing is the
+// sensing radius r (at most a quarter of the domain radius), and the moving average's time
+// constant kEstimateIntervals decision intervals (T under the continuum rule, dt under the
+// report's per-step rule), so that refining dt at a fixed T leaves the estimate's window.
+inline constexpr double kEstimateIntervals = 10.0;
 double estimate_spacing(const Scene& scene);
 double estimate_time(const Scene& scene);
 
-// The spacing must leave the mesh cells inside the domain.
+// The spacing must leave the mesh cells inside the domain and resolve the sensing ball
+// (h <= r); a molecule-resolved count must sample the ball faster than a molecule crosses it
+// (dt <= r^2 / (6 D), the mean time to leave the ball from its centre).
 void check_estimate(const Scene& scene);
 // The meshes' node count and memory, before anything is allocated (check_cue_fields).
 void check_estimate_mesh(const Scene& scene, const std::vector<core::CueParams>& cues);

@@ -61,6 +61,12 @@ std::uint32_t explicit_substeps(const core::CueParams& cue, double h, double dt)
 std::uint32_t grid_substeps(const Scene& scene, const core::CueParams& cue);
 core::StencilParams stencil_params(const GridGeometry3& g, const core::CueParams& cue, double dt, bool reflecting);
 
+// The ghost planes each side of a slab of a grid decomposed over ranks: what sensing at a
+// tip of the slab reads beyond it. A point sample reads its cell and the centred differences,
+// two planes, and a third covers rounding at a face; the count form's sensing ball reads
+// r + h/2 about the tip (mesh_ball_sample), one plane more for rounding.
+int grid_ghost_planes(const Scene& scene);
+
 // The summary line of a grid field ("explicit grid, 109^3 nodes, h = 0.1, sub-steps per
 // step: 14"); empty for other fields.
 std::string grid_field_note(const Scene& scene, const std::vector<core::CueParams>& cues);

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <functional>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -79,6 +80,9 @@ struct Options {
   int polish_iterations = 4;     // Gauss-Newton steps from the grid's best (0: none)
   bool profile = true;           // find each interval's ends on the profile (needs the polish)
   RunOptions run;
+  // Called after every batch of parameter sets (for a progress line): the evaluations so far,
+  // the lowest chi2 so far (HUGE_VAL before the first finite one). May be empty.
+  std::function<void(std::size_t evaluations, double best_chi2)> on_evaluation;
 };
 
 struct Evaluation {

@@ -28,6 +28,7 @@ void validate_field(const Options& o, Report& r);
 void validate_stiff(const Options& o, Report& r);
 void validate_turning(const Options& o, Report& r);
 void validate_guidance(const Options& o, Report& r);
+void validate_continuum(const Options& o, Report& r);
 void validate_assay(const Options& o, Report& r);
 void validate_bfs(const Options& o, Report& r);
 void validate_gpu(const Options& o, Report& r);

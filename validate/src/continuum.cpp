@@ -43,35 +43,16 @@ using sweep::mean_se;
 
 const Vec3 kSource{4, 0, 0};
 
-// The explant of `validate guidance`: 400 neurons in a ball of radius 1, one attractant 4
-// LU away (a Q = 2 per time unit, D = 0.5, k = 0.05, K_d = 0.5), 6 LU of growth in 30 steps
-// of 0.2 LU, dt = T = 1 (30 decisions); the fields warmed up 100 time units.
+// The explant of `validate guidance` (explant_base) with sensing radius r and source strength
+// a Q per time unit, at dt = T = 1 (30 decisions); the fields warmed up 100 time units.
 Scene explant(std::uint64_t seed, double r, double strength, core::NoiseForm noise, FieldKind field) {
-  Scene s;
-  s.seed = seed;
+  Scene s = explant_base(seed, noise);
   s.dt = 1.0;
-  s.steps = 30;
-  s.neurons.count = 400;
-  s.neurons.radius = 1.0;
-  s.neurons.soma_radius = 0.005;
-  s.axons.step_length = 0.2;
-  s.axons.bounds_radius = 12.0;
-  s.axons.persistence_length = std::nullopt;
-  s.guidance.model = GuidanceModel::kSnr;
-  s.guidance.noise = noise;
   s.guidance.sensing_radius = r;
   s.guidance.integration_time = 1.0;
-  Source src;
-  src.position = kSource;
-  src.diffusion = 0.5;
-  src.decay = 0.05;
-  src.kd = 0.5;
-  src.emission = strength * s.dt / s.cues.particles.amount;  // per step: a Q dt / a
-  s.cues.sources = {src};
+  s.cues.sources[0].emission = strength * s.dt / s.cues.particles.amount;  // per step: a Q dt / a
   s.cues.field = field;
   s.cues.warmup_steps = field == FieldKind::kAnalytic ? 0 : 100;
-  s.analysis.bfs_sources.clear();
-  s.analysis.components = false;
   return s;
 }
 
@@ -116,6 +97,20 @@ struct Ladder {
   int default_level = 0;
   bool control = false;  // the per-step rule: reported, not required to converge
 };
+
+// dt and the step refined by 2 per level from a base scene (its default dt at level 0).
+Ladder dt_ladder(std::string scene, Measure m, std::function<Scene(std::uint64_t seed)> base, int seeds) {
+  const double dt = base(1).dt;
+  std::vector<std::string> values;
+  for (int l = 0; l < 4; ++l) values.push_back(fmt::format("dt = {:.4g}", dt / std::pow(2.0, l)));
+  return {std::move(scene), "dt, step", m, values,
+          [base](std::uint64_t seed, int l) {
+            Scene s = base(seed);
+            refine_dt(s, std::pow(2.0, l));
+            return s;
+          },
+          seeds};
+}
 
 struct Point {
   MeanSe value, diff;  // diff: paired with the finest level, per seed
@@ -164,76 +159,55 @@ void validate_continuum(const Options& o, Report& r) {
   const int analytic_seeds = o.quick ? 8 : 16, particle_seeds = o.quick ? 3 : 6;
   const double a0 = Scene{}.cues.particles.amount;
   std::vector<Ladder> ladders;
-  auto dt_values = [](double dt, int levels) {
-    std::vector<std::string> v;
-    for (int l = 0; l < levels; ++l) v.push_back(fmt::format("dt = {:.4g}", dt / std::pow(2.0, l)));
-    return v;
-  };
-  const int dt_levels = 4;
   // A. dt and the step together.
+  using core::NoiseForm;
   for (double radius : {0.25, 0.5, 1.0})
-    ladders.push_back({fmt::format("explant r = {}", radius), "dt, step", Measure::kIndex, dt_values(1.0, dt_levels),
-                       [radius](std::uint64_t seed, int l) {
-                         Scene s = explant(seed, radius, 2.0, core::NoiseForm::kCount, FieldKind::kAnalytic);
-                         refine_dt(s, std::pow(2.0, l));
-                         return s;
-                       },
-                       analytic_seeds});
-  ladders.push_back({"explant r = 0.5, source / 10", "dt, step", Measure::kIndex, dt_values(1.0, dt_levels),
-                     [](std::uint64_t seed, int l) {
-                       Scene s = explant(seed, 0.5, 0.2, core::NoiseForm::kCount, FieldKind::kAnalytic);
-                       refine_dt(s, std::pow(2.0, l));
-                       return s;
-                     },
-                     analytic_seeds});
-  for (core::NoiseForm f : {core::NoiseForm::kBinding, core::NoiseForm::kSnapshot})
-    ladders.push_back({fmt::format("explant r = 0.5, {}", name_of(f)), "dt, step", Measure::kIndex,
-                       dt_values(1.0, dt_levels),
-                       [f](std::uint64_t seed, int l) {
-                         Scene s = explant(seed, 0.5, 2.0, f, FieldKind::kAnalytic);
-                         refine_dt(s, std::pow(2.0, l));
-                         return s;
-                       },
-                       analytic_seeds});
-  {
-    Ladder c{"explant r = 0.5, per-step rule (control)", "dt, step", Measure::kIndex, dt_values(1.0, dt_levels),
-             [](std::uint64_t seed, int l) {
-               Scene s = explant(seed, 0.5, 2.0, core::NoiseForm::kCount, FieldKind::kAnalytic);
-               s.guidance.decision = DecisionRule::kPerStep;
-               refine_dt(s, std::pow(2.0, l));
-               return s;
-             },
-             analytic_seeds};
-    c.control = true;
-    ladders.push_back(c);
-  }
-  ladders.push_back({"explant r = 0.5, particles", "dt, step", Measure::kIndex, dt_values(1.0, dt_levels),
-                     [](std::uint64_t seed, int l) {
-                       Scene s = explant(seed, 0.5, 2.0, core::NoiseForm::kCount, FieldKind::kParticles);
-                       refine_dt(s, std::pow(2.0, l));
-                       return s;
-                     },
-                     particle_seeds});
+    ladders.push_back(dt_ladder(fmt::format("explant r = {}", radius), Measure::kIndex,
+                                [radius](std::uint64_t seed) {
+                                  return explant(seed, radius, 2.0, NoiseForm::kCount, FieldKind::kAnalytic);
+                                },
+                                analytic_seeds));
+  ladders.push_back(dt_ladder("explant r = 0.5, source / 10", Measure::kIndex,
+                              [](std::uint64_t seed) {
+                                return explant(seed, 0.5, 0.2, NoiseForm::kCount, FieldKind::kAnalytic);
+                              },
+                              analytic_seeds));
+  for (NoiseForm f : {NoiseForm::kBinding, NoiseForm::kSnapshot})
+    ladders.push_back(dt_ladder(fmt::format("explant r = 0.5, {}", name_of(f)), Measure::kIndex,
+                                [f](std::uint64_t seed) { return explant(seed, 0.5, 2.0, f, FieldKind::kAnalytic); },
+                                analytic_seeds));
+  Ladder control = dt_ladder("explant r = 0.5, per-step rule (control)", Measure::kIndex,
+                             [](std::uint64_t seed) {
+                               Scene s = explant(seed, 0.5, 2.0, NoiseForm::kCount, FieldKind::kAnalytic);
+                               s.guidance.decision = DecisionRule::kPerStep;
+                               return s;
+                             },
+                             analytic_seeds);
+  control.control = true;
+  ladders.push_back(control);
+  ladders.push_back(dt_ladder("explant r = 0.5, particles", Measure::kIndex,
+                              [](std::uint64_t seed) {
+                                return explant(seed, 0.5, 2.0, NoiseForm::kCount, FieldKind::kParticles);
+                              },
+                              particle_seeds));
   const Scene assay_base = load_scene_file((data_dir() / "scenes" / "assay-explant.json").string()).scene;
-  ladders.push_back({"assay-explant (um, h)", "dt, step", Measure::kBias, dt_values(assay_base.dt, dt_levels),
-                     [assay_base](std::uint64_t seed, int l) {
-                       Scene s = assay_base;
-                       s.seed = seed;
-                       s.neurons.populations[0].count = 4000;  // the bias's SE per explant is ~0.03
-                       s.neurons.count = 4000;
-                       refine_dt(s, std::pow(2.0, l));
-                       return s;
-                     },
-                     o.quick ? 8 : 16});
+  ladders.push_back(dt_ladder("assay-explant (um, h)", Measure::kBias,
+                              [assay_base](std::uint64_t seed) {
+                                Scene s = assay_base;
+                                s.seed = seed;
+                                s.neurons.populations[0].count = 4000;  // the bias's SE per explant is ~0.03
+                                s.neurons.count = 4000;
+                                return s;
+                              },
+                              o.quick ? 8 : 16));
   const Scene default_base = Scene::builtin_default();
-  ladders.push_back({"default scene", "dt, step", Measure::kConnected, dt_values(default_base.dt, dt_levels),
-                     [default_base](std::uint64_t seed, int l) {
-                       Scene s = default_base;
-                       s.seed = seed;
-                       refine_dt(s, std::pow(2.0, l));
-                       return s;
-                     },
-                     o.quick ? 4 : 8});
+  ladders.push_back(dt_ladder("default scene", Measure::kConnected,
+                              [default_base](std::uint64_t seed) {
+                                Scene s = default_base;
+                                s.seed = seed;
+                                return s;
+                              },
+                              o.quick ? 4 : 8));
   // B. The particle amount.
   for (double radius : {0.5, 1.0}) {
     std::vector<std::string> vals;

@@ -458,25 +458,7 @@ constexpr double kExplantGridSpacing = 0.5;
 const Vec3 kExplantSource{4, 0, 0};
 
 Scene explant_scene(std::uint64_t seed, core::NoiseForm noise, const Resolution& res) {
-  Scene s;
-  s.seed = seed;
-  s.steps = 30;
-  s.neurons.count = 400;
-  s.neurons.radius = 1.0;
-  s.neurons.soma_radius = 0.005;
-  s.axons.step_length = 0.2;
-  s.axons.bounds_radius = 12.0;
-  s.axons.persistence_length = std::nullopt;
-  s.guidance.model = GuidanceModel::kSnr;
-  s.guidance.noise = noise;
-  Source src;
-  src.position = kExplantSource;
-  src.diffusion = 0.5;
-  src.decay = 0.05;
-  src.kd = 0.5;
-  s.cues.sources = {src};
-  s.analysis.bfs_sources.clear();
-  s.analysis.components = false;
+  Scene s = explant_base(seed, noise);
   apply(res, s, kExplantStrength, 100);
   return s;
 }
@@ -1352,6 +1334,29 @@ void persistence(const Options& o, Report& r) {
 }
 
 }  // namespace
+
+Scene explant_base(std::uint64_t seed, core::NoiseForm noise) {
+  Scene s;
+  s.seed = seed;
+  s.steps = 30;
+  s.neurons.count = 400;
+  s.neurons.radius = 1.0;
+  s.neurons.soma_radius = 0.005;
+  s.axons.step_length = 0.2;
+  s.axons.bounds_radius = 12.0;
+  s.axons.persistence_length = std::nullopt;
+  s.guidance.model = GuidanceModel::kSnr;
+  s.guidance.noise = noise;
+  Source src;
+  src.position = kExplantSource;
+  src.diffusion = 0.5;
+  src.decay = 0.05;
+  src.kd = 0.5;
+  s.cues.sources = {src};
+  s.analysis.bfs_sources.clear();
+  s.analysis.components = false;
+  return s;
+}
 
 void validate_guidance(const Options& o, Report& r) {
   with_threads(o.threads, [&] {

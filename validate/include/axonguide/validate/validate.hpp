@@ -8,6 +8,10 @@
 #include "axonguide/core/types.hpp"
 #include "axonguide/validate/report.hpp"
 
+namespace axg {
+struct Scene;
+}
+
 namespace axg::validate {
 
 struct Options {
@@ -29,6 +33,10 @@ void validate_stiff(const Options& o, Report& r);
 void validate_turning(const Options& o, Report& r);
 void validate_guidance(const Options& o, Report& r);
 void validate_continuum(const Options& o, Report& r);
+// The explant of `validate guidance` (and of `validate continuum`): 400 neurons in a ball of
+// radius 1, one attractant 4 LU away (D = 0.5, k = 0.05, K_d = 0.5), no wandering, 30 steps of
+// 0.2 LU, bounds 12 LU; the field, its resolution and the emission are the caller's.
+Scene explant_base(std::uint64_t seed, core::NoiseForm noise);
 void validate_assay(const Options& o, Report& r);
 void validate_bfs(const Options& o, Report& r);
 void validate_gpu(const Options& o, Report& r);

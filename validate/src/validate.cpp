@@ -31,6 +31,8 @@ const Study kStudies[] = {
     {"guidance", "Particle sensing and guidance: flat field, convergence, persistence", validate_guidance},
     {"continuum", "Guidance with a continuum limit: every numerical parameter refined", validate_continuum},
     {"assay", "The explant assay: control, steepness, peak concentration", validate_assay},
+    {"calibration", "Calibration: the signalling model's fits to the explant outgrowth, every χ² regenerated",
+     validate_calibration},
     {"bfs", "BFS and components against Boost.Graph", validate_bfs},
     {"gpu", "Reference against the CUDA accelerator", validate_gpu},
 };

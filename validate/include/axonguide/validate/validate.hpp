@@ -38,6 +38,9 @@ void validate_continuum(const Options& o, Report& r);
 // 0.2 LU, bounds 12 LU; the field, its resolution and the emission are the caller's.
 Scene explant_base(std::uint64_t seed, core::NoiseForm noise);
 void validate_assay(const Options& o, Report& r);
+// Every chi2 the calibration quotes, regenerated: the signalling model's fits to the shared
+// explant outgrowth, with parameter counts and a between-explant variance (validate/src/calibration.cpp).
+void validate_calibration(const Options& o, Report& r);
 void validate_bfs(const Options& o, Report& r);
 void validate_gpu(const Options& o, Report& r);
 

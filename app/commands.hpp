@@ -59,6 +59,14 @@ int cmd_golden(const GoldenArgs& args);
 int cmd_view(const std::string& dir);
 int cmd_assay(const std::string& dir);
 
+struct MorphometryArgs {
+  std::string dir;               // a run's folder (its morphologies/) or a folder of .swc files
+  std::string out;               // empty: dir
+  std::string projection = "none";  // none | xy (lengths and Sholl radii in the xy plane)
+  double sholl_step = 10.0;      // µm
+};
+int cmd_morphometry(const MorphometryArgs& args);
+
 struct SweepArgs {
   std::string spec_path;
   std::string out_dir;

@@ -110,6 +110,15 @@ int dispatch(int argc, char** argv) {
   auto* assay_cmd = app.add_subcommand("assay", "Measure an explant or target assay of a run: DIR/assay.csv and plots");
   assay_cmd->add_option("dir", assay_dir, "Output directory of a run")->required();
 
+  MorphometryArgs morph;
+  auto* morph_cmd = app.add_subcommand(
+      "morphometry", "Morphometric statistics of SWC morphologies: DIR/morphometry.csv, sholl.csv and a plot");
+  morph_cmd->add_option("dir", morph.dir, "A run's folder (its morphologies/) or a folder of .swc files")->required();
+  morph_cmd->add_option("--out", morph.out, "Output folder (default: DIR)");
+  morph_cmd->add_option("--projection", morph.projection, "none or xy: measure in the xy plane (2-D culture images)")
+      ->capture_default_str();
+  morph_cmd->add_option("--sholl-step", morph.sholl_step, "Sholl radius step (µm)")->capture_default_str();
+
   SweepArgs sweep;
   auto* sweep_cmd = app.add_subcommand("sweep", "Run a parameter sweep: sweep.csv, summary.csv (mean and 95% CI)");
   sweep_cmd->add_option("sweep", sweep.spec_path, "Sweep JSON file")->required();
@@ -194,6 +203,7 @@ int dispatch(int argc, char** argv) {
   }
   if (view_cmd->parsed()) return cmd_view(view_dir);
   if (assay_cmd->parsed()) return cmd_assay(assay_dir);
+  if (morph_cmd->parsed()) return cmd_morphometry(morph);
   if (sweep_cmd->parsed()) return cmd_sweep(sweep);
   if (fit_cmd->parsed()) {
     if (!(fit.gain_lo < fit.gain_hi)) throw axg::InputError("fit: --gain-min must be below --gain-max");

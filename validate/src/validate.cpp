@@ -33,6 +33,8 @@ const Study kStudies[] = {
     {"assay", "The explant assay: control, steepness, peak concentration", validate_assay},
     {"calibration", "Calibration: the signalling model's fits to the explant outgrowth, every χ² regenerated",
      validate_calibration},
+    {"branching", "Branching: the BESTL rule against van Pelt's recursion, Yule and the elongation model",
+     validate_branching},
     {"bfs", "BFS and components against Boost.Graph", validate_bfs},
     {"gpu", "Reference against the CUDA accelerator", validate_gpu},
 };

@@ -35,6 +35,7 @@ enum class Stream : std::uint32_t {
   kBenchmark = 10,        // id = point index: benchmarks
   kSourceKind = 11,       // id = source index: attractant or repellent for random_sources
   kWander = 12,           // id = neuron, step = step: the axis of the heading's random walk
+  kBranch = 13,           // id = growth cone (core::cone_key), step = step: does the cone branch
 };
 
 struct Counter {

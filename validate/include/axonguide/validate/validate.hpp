@@ -41,6 +41,9 @@ void validate_assay(const Options& o, Report& r);
 // Every chi2 the calibration quotes, regenerated: the signalling model's fits to the shared
 // explant outgrowth, with parameter counts and a between-explant variance (validate/src/calibration.cpp).
 void validate_calibration(const Options& o, Report& r);
+// The branching rule (BESTL) against van Pelt's recursion, the Yule process and the
+// elongation model, through the tree process (validate/src/branching.cpp).
+void validate_branching(const Options& o, Report& r);
 void validate_bfs(const Options& o, Report& r);
 void validate_gpu(const Options& o, Report& r);
 

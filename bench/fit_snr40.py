@@ -30,8 +30,9 @@ def main():
     ap.add_argument("binary")
     ap.add_argument("--out", default=None)
     ap.add_argument("--threads", type=int, default=0)
-    ap.add_argument("fit_args", nargs=argparse.REMAINDER)
-    a = ap.parse_args()
+    argv = sys.argv[1:]
+    fit_args = argv[argv.index("--") + 1:] if "--" in argv else []
+    a = ap.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
     out = a.out or tempfile.mkdtemp(prefix="fit_snr40.")
     os.makedirs(out, exist_ok=True)
     scenes = os.path.join(HERE, "..", "scenes")
@@ -47,7 +48,7 @@ def main():
             se = (float(row["bias_ci_high"]) - float(row["bias_ci_low"])) / (2 * T975_9)
             g.write(f"{row['cues.imposed.concentration']},{row['cues.imposed.steepness']},{row['bias_mean']},{se},10\n")
     fit_dir = os.path.join(out, "fit")
-    extra = [x for x in a.fit_args if x != "--"]
+    extra = fit_args
     t0 = time.monotonic()
     p = subprocess.run([a.binary, "fit", data, "--scene", os.path.join(scenes, "assay-explant.json"), "--out", fit_dir,
                         "--max-chi2", "1e9"] + threads + extra, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

@@ -14,19 +14,21 @@ TreeOutcome grow_tree(const TreeProcess& p, std::uint32_t tree) {
     double segment;  // the length of its current segment
   };
   std::vector<Cone> cones{{0, 0, 0.0}}, next, daughters;
+  std::vector<int> by_order{1};  // cones per centrifugal order (core::mean_order_weight)
+  std::vector<int> born;         // orders of the cones that branched this step
   std::uint32_t count = 1;  // cones this tree has had
   TreeOutcome out;
   for (std::uint32_t k = 0; k < p.steps; ++k) {
     const int n = static_cast<int>(cones.size());
-    double weights = 0;  // in index order
-    for (const Cone& c : cones) weights += core::order_weight(p.branching.s, c.order);
-    const double mean_weight = weights / n;
+    const double mean_weight =
+        core::mean_order_weight(p.branching.s, by_order.data(), static_cast<int>(by_order.size()), n);
     const double grow = core::elongation(p.elongation, n, p.dt);
     const double t0 = static_cast<double>(k) * p.dt;
     // Survivors keep their indices; daughters take the next ones in their parents' order,
     // so survivors then daughters is index order.
     next.clear();
     daughters.clear();
+    born.clear();
     for (Cone& c : cones) {
       c.segment += grow;
       out.total_length += grow;
@@ -38,11 +40,18 @@ TreeOutcome grow_tree(const TreeProcess& p, std::uint32_t tree) {
           if (count >= core::kConesPerNeuron) throw std::runtime_error("tree process: more than 2^24 cones in a tree");
           daughters.push_back({count++, c.order + 1, 0.0});
         }
+        born.push_back(c.order);
       } else {
         next.push_back(c);
       }
     }
     next.insert(next.end(), daughters.begin(), daughters.end());
+    // The histogram after the step: each branching cone of order g leaves two of order g + 1.
+    for (const int g : born) {
+      --by_order[static_cast<std::size_t>(g)];
+      if (by_order.size() < static_cast<std::size_t>(g) + 2) by_order.resize(static_cast<std::size_t>(g) + 2, 0);
+      by_order[static_cast<std::size_t>(g) + 1] += 2;
+    }
     cones.swap(next);
   }
   out.terminals = static_cast<int>(cones.size());

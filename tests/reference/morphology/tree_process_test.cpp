@@ -13,16 +13,16 @@
 namespace axg {
 namespace {
 
-// For any orders and S: sum_i 2^(-S gamma_i) / C = n, so the tree's total rate is
-// n D n^(-E) whatever S is (the normalisation C of the BESTL model).
+// For any orders and S: sum_i 2^(-S gamma_i) / C = n, with C from the order histogram, so
+// the tree's total rate is n D n^(-E) whatever S is (the normalisation C of the BESTL model).
 RC_GTEST_PROP(branching, OrderWeightsLeaveTheTreesTotalRate, ()) {
   const int n = *rc::gen::inRange(1, 60);
   const double s = *rc::gen::inRange(-200, 200) / 100.0;
   std::vector<int> orders(n);
   for (int& o : orders) o = *rc::gen::inRange(0, 12);
-  double c = 0;
-  for (int o : orders) c += core::order_weight(s, o);
-  c /= n;
+  std::vector<int> counts(13, 0);
+  for (int o : orders) ++counts[o];
+  const double c = core::mean_order_weight(s, counts.data(), 13, n);
   double total = 0;
   for (int o : orders) total += core::order_weight(s, o) / c;
   RC_ASSERT(std::fabs(total - n) <= 1e-12 * n);

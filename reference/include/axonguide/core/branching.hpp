@@ -55,6 +55,16 @@ AXG_HDI double competition(double x, int n) {
   return (n == 1 || x == 0.0) ? 1.0 : pm::exp(-x * pm::log(static_cast<double>(n)));
 }
 
+// C = (1/n) sum_j 2^(-S gamma_j) from the tree's order histogram (counts[g]: the cones of
+// order g), summed in increasing order. Integer counts merge exactly in any order, so C is
+// the same whether a tree's cones are stepped by one thread, many, or several ranks.
+AXG_HDI double mean_order_weight(double s, const int* counts, int orders, int n) {
+  double sum = 0;
+  for (int g = 0; g < orders; ++g)
+    if (counts[g] != 0) sum += static_cast<double>(counts[g]) * order_weight(s, g);
+  return sum / static_cast<double>(n);
+}
+
 // The probability that a cone of order `order` branches in [t0, t0 + dt], in a tree of n
 // cones whose order weights average `mean_weight`.
 AXG_HDI double branch_probability(const BranchingParams& p, double t0, double dt, int n, int order,

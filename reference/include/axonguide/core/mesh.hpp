@@ -61,40 +61,49 @@ AXG_HDI double nodal_derivative(const GridFieldView& g, int i, int j, int k, int
   return (hi - lo) / (static_cast<double>(up + down) * g.h);
 }
 
-AXG_HDI MeshSample mesh_sample(Vec3 x, const GridFieldView& g) {
+// x's cell: its lowest node (i, j, k) and the trilinear weights of its two nodes per axis.
+struct MeshCell {
   int i, j, k;
+  double wx[2], wy[2], wz[2];
+};
+
+AXG_HDI MeshCell mesh_cell(Vec3 x, const GridFieldView& g) {
+  MeshCell m;
   double fx, fy, fz;
-  mesh_locate(x.x, g.origin.x, g.h, g.n, &i, &fx);
-  mesh_locate(x.y, g.origin.y, g.h, g.n, &j, &fy);
-  mesh_locate(x.z, g.origin.z, g.h, g.n, &k, &fz);
-  const double wx[2] = {1.0 - fx, fx}, wy[2] = {1.0 - fy, fy}, wz[2] = {1.0 - fz, fz};
+  mesh_locate(x.x, g.origin.x, g.h, g.n, &m.i, &fx);
+  mesh_locate(x.y, g.origin.y, g.h, g.n, &m.j, &fy);
+  mesh_locate(x.z, g.origin.z, g.h, g.n, &m.k, &fz);
+  m.wx[0] = 1.0 - fx, m.wx[1] = fx;
+  m.wy[0] = 1.0 - fy, m.wy[1] = fy;
+  m.wz[0] = 1.0 - fz, m.wz[1] = fz;
+  return m;
+}
+
+AXG_HDI MeshSample mesh_sample(Vec3 x, const GridFieldView& g) {
+  const MeshCell m = mesh_cell(x, g);
   // Corners in (z, y, x) order; each weight is (wx wy) wz, the same for value and gradient.
   double value = 0.0;
   Vec3 grad{0.0, 0.0, 0.0};
   for (int c = 0; c < 2; ++c)
     for (int b = 0; b < 2; ++b)
       for (int a = 0; a < 2; ++a) {
-        const double w = (wx[a] * wy[b]) * wz[c];
-        value += w * g.c[node_index(i + a, j + b, k + c - g.k0, g.n)];
-        grad += w * Vec3{nodal_derivative(g, i + a, j + b, k + c, 1, 0, 0),
-                         nodal_derivative(g, i + a, j + b, k + c, 0, 1, 0),
-                         nodal_derivative(g, i + a, j + b, k + c, 0, 0, 1)};
+        const double w = (m.wx[a] * m.wy[b]) * m.wz[c];
+        value += w * g.c[node_index(m.i + a, m.j + b, m.k + c - g.k0, g.n)];
+        grad += w * Vec3{nodal_derivative(g, m.i + a, m.j + b, m.k + c, 1, 0, 0),
+                         nodal_derivative(g, m.i + a, m.j + b, m.k + c, 0, 1, 0),
+                         nodal_derivative(g, m.i + a, m.j + b, m.k + c, 0, 0, 1)};
       }
   return {value, grad};
 }
 
 // The value alone: trilinear interpolation of the nodes of x's cell.
 AXG_HDI double mesh_value(Vec3 x, const GridFieldView& g) {
-  int i, j, k;
-  double fx, fy, fz;
-  mesh_locate(x.x, g.origin.x, g.h, g.n, &i, &fx);
-  mesh_locate(x.y, g.origin.y, g.h, g.n, &j, &fy);
-  mesh_locate(x.z, g.origin.z, g.h, g.n, &k, &fz);
-  const double wx[2] = {1.0 - fx, fx}, wy[2] = {1.0 - fy, fy}, wz[2] = {1.0 - fz, fz};
+  const MeshCell m = mesh_cell(x, g);
   double value = 0.0;
   for (int c = 0; c < 2; ++c)
     for (int b = 0; b < 2; ++b)
-      for (int a = 0; a < 2; ++a) value += ((wx[a] * wy[b]) * wz[c]) * g.c[node_index(i + a, j + b, k + c - g.k0, g.n)];
+      for (int a = 0; a < 2; ++a)
+        value += ((m.wx[a] * m.wy[b]) * m.wz[c]) * g.c[node_index(m.i + a, m.j + b, m.k + c - g.k0, g.n)];
   return value;
 }
 

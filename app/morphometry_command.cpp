@@ -2,7 +2,6 @@
 // run's morphologies/ or a folder of SWC files made elsewhere (docs/methods.md §13).
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include <fmt/format.h>
 
@@ -93,23 +92,12 @@ int cmd_morphometry(const MorphometryArgs& args) {
   write_file_atomically(out, "morphometry_neurons.csv", per);
   write_file_atomically(out, "morphometry_dendrites.csv", dend);
   write_file_atomically(out, "sholl.csv", sh);
-  {
-    std::error_code ec;
-    fs::remove(out / "morphometry.png", ec);  // a plot not drawn leaves no older picture beside these numbers
-  }
-  const std::string& python = validate::plotting_python();
-  if (python.empty()) {
-    std::fprintf(stderr, "axonguide: morphometry: no python3 with matplotlib; morphometry.png not drawn\n");
-  } else {
-    const fs::path script = validate::plots_dir() / "morphometry.py";
-    if (validate::run_program({python, script.string(), out.string()}, "/dev/null") != 0)
-      std::fprintf(stderr, "axonguide: morphometry: %s failed; morphometry.png not drawn\n", script.string().c_str());
-  }
+  const bool drawn = validate::draw_folder_plot(out, "morphometry.py", "morphometry.png", "morphometry");
   fmt::print("morphometry {} morphologies ({} with an axon), projection {}\n", ms.size(),
              std::count_if(stats.begin(), stats.end(), [](const NeuronStats& s) { return s.has_axon; }),
              args.projection);
   fmt::print("outputs   {}/morphometry.csv, morphometry_neurons.csv, morphometry_dendrites.csv, sholl.csv{}\n",
-             out.string(), python.empty() ? "" : ", morphometry.png");
+             out.string(), drawn ? ", morphometry.png" : "");
   return kExitOk;
 }
 

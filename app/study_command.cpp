@@ -115,20 +115,9 @@ int cmd_assay(const std::string& dir_name) {
   if (std::isfinite(m.near_attractant_fraction) || std::isfinite(m.near_repellent_fraction))
     fmt::print("          tips within 3 sensing radii of an attractant {:.4f}, of a repellent {:.4f} (all neurons)\n",
                m.near_attractant_fraction, m.near_repellent_fraction);
-  {
-    std::error_code ec;
-    fs::remove(dir / "assay.png", ec);  // a plot not drawn leaves no older picture beside these numbers
-  }
-  const std::string& python = validate::plotting_python();
-  if (python.empty()) {
-    std::fprintf(stderr, "axonguide: assay: no python3 with matplotlib; assay.png not drawn\n");
-  } else {
-    const fs::path script = validate::plots_dir() / "assay_run.py";
-    const int rc = validate::run_program({python, script.string(), dir.string()}, "/dev/null");
-    if (rc != 0) std::fprintf(stderr, "axonguide: assay: %s failed; assay.png not drawn\n", script.string().c_str());
-  }
+  const bool drawn = validate::draw_folder_plot(dir, "assay_run.py", "assay.png", "assay");
   fmt::print("outputs   {}/assay.csv, assay_profile.csv, assay_turning.csv{}\n", dir_name,
-             python.empty() ? "" : ", assay.png");
+             drawn ? ", assay.png" : "");
   return kExitOk;
 }
 
@@ -397,16 +386,7 @@ int cmd_fit(const FitArgs& args) {
   for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
            {"fit_grid.csv", grid}, {"fit_points.csv", pts}, {"fit_curve.csv", curve}, {"fit.json", summary.dump(2) + "\n"}})
     write_file_atomically(dir, name, text);
-  {
-    std::error_code ec;
-    fs::remove(dir / "fit.png", ec);  // a plot not drawn leaves no older picture beside these numbers
-  }
-  const std::string& python = validate::plotting_python();
-  if (!python.empty()) {
-    const fs::path script = validate::plots_dir() / "fit_curve.py";
-    if (validate::run_program({python, script.string(), dir.string()}, "/dev/null") != 0)
-      std::fprintf(stderr, "axonguide: fit: %s failed; fit.png not drawn\n", script.string().c_str());
-  }
+  const bool drawn = validate::draw_folder_plot(dir, "fit_curve.py", "fit.png", "fit", /*quiet_without_python=*/true);
   std::string what;
   for (int m = 0; m < fit::kMeasures; ++m)
     if (data.measured[m]) what += (what.empty() ? "" : " and ") + std::string(fit::measure_name(m));
@@ -435,7 +415,7 @@ int cmd_fit(const FitArgs& args) {
     fmt::print("          warning: the model SE is above {:.3f} x the data SE at some point: raise --max-seeds\n",
                o.target_se_ratio);
   fmt::print("outputs   {}/fit.json, fit_points.csv, fit_grid.csv, fit_curve.csv{}\n", args.out_dir,
-             python.empty() ? "" : ", fit.png");
+             drawn ? ", fit.png" : "");
   if (r.chi2_per_dof > args.max_chi2) {
     std::fprintf(stderr, "axonguide: fit: chi2/dof = %.3f is above the threshold %g (--max-chi2)\n", r.chi2_per_dof,
                  args.max_chi2);

@@ -234,4 +234,25 @@ int Report::finish(bool allow_skip) {
   return skipped && !allow_skip ? kExitCannotRun : kExitOk;
 }
 
+bool draw_folder_plot(const fs::path& dir, const std::string& script, const std::string& png,
+                      const std::string& command, bool quiet_without_python) {
+  {
+    std::error_code ec;
+    fs::remove(dir / png, ec);
+  }
+  const std::string& python = plotting_python();
+  if (python.empty()) {
+    if (!quiet_without_python)
+      std::fprintf(stderr, "axonguide: %s: no python3 with matplotlib; %s not drawn\n", command.c_str(), png.c_str());
+    return false;
+  }
+  const fs::path path = plots_dir() / script;
+  if (run_program({python, path.string(), dir.string()}, "/dev/null") != 0) {
+    std::fprintf(stderr, "axonguide: %s: %s failed; %s not drawn\n", command.c_str(), path.string().c_str(),
+                 png.c_str());
+    return false;
+  }
+  return true;
+}
+
 }  // namespace axg::validate

@@ -73,4 +73,11 @@ int run_program(const std::vector<std::string>& argv, const std::filesystem::pat
 // (axonguide/support/resources.hpp: the installed share/axonguide, or the source tree).
 std::filesystem::path plots_dir();
 
+// A command's picture of its own output folder: removes DIR/png (so that a plot not drawn
+// leaves no older picture beside new numbers), then runs plots_dir()/script DIR. Says on
+// standard error, as `command`, when it failed, and when there is no Python with matplotlib
+// unless quiet_without_python. Returns whether the picture was drawn.
+bool draw_folder_plot(const std::filesystem::path& dir, const std::string& script, const std::string& png,
+                      const std::string& command, bool quiet_without_python = false);
+
 }  // namespace axg::validate

@@ -7,7 +7,19 @@ namespace axg::distributed {
 
 using nlohmann::json;
 
-DecomposedRun::DecomposedRun(const Scene& scene, Comm& comm) : comm_(comm), d_(decompose(scene, comm.size())) {}
+namespace {
+
+const Scene& refuse_arbours(const Scene& scene) {
+  if (scene.arbours)
+    throw RunError("mpirun: arbour scenes over ranks are designed (docs/scaling.md §2.6a: growth cones migrate between "
+                   "blocks as axons do now) but not built; run the scene without mpirun");
+  return scene;
+}
+
+}  // namespace
+
+DecomposedRun::DecomposedRun(const Scene& scene, Comm& comm)
+    : comm_(comm), d_(decompose(refuse_arbours(scene), comm.size())) {}
 
 void DecomposedRun::attach(RunOptions& options) {
   options.place = [this](const Scene& scene) {

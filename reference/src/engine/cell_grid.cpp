@@ -13,6 +13,14 @@ namespace axg {
 
 GridGeometry soma_grid_geometry(const Scene& s) {
   const double contact = s.neurons.soma_radius + s.axons.contact_distance;
+  if (s.neurons.shape == RegionShape::kDisc) {
+    // A culture: one layer of square cells over the disc, about one soma a cell.
+    GridGeometry g = cube_geometry(s.neurons.radius + contact, 2.0 * contact,
+                                   std::pow(static_cast<double>(s.neurons.count), 1.5));
+    g.nz = 1;
+    g.origin.z = -0.5 * g.cell;
+    return g;
+  }
   return cube_geometry(s.neurons.radius + contact, 2.0 * contact, static_cast<double>(s.neurons.count));
 }
 

@@ -24,9 +24,11 @@ std::string scene_hash(const Scene& scene) { return sha256_hex(scene_to_json(sce
 
 namespace {
 
-// Format 2 added the sums of the open decision interval (EngineState::guidance).
-constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '2'};
+// Format 2 added the sums of the open decision interval (EngineState::guidance); format 3
+// the arbours (EngineState::arbour).
+constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '3'};
 constexpr char kMagicFormat1[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '1'};
+constexpr char kMagicFormat2[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '2'};
 constexpr std::uint32_t kByteOrder = 0x01020304;
 
 static_assert(sizeof(core::Vec3) == 24 && std::is_trivially_copyable_v<core::Vec3>);
@@ -186,6 +188,7 @@ void contents(Io& io, Run& r, State& e) {
   io.array(e.signal);
   io.array(e.receptors);
   io.array(e.guidance);
+  io.array(e.arbour);
 }
 
 }  // namespace
@@ -210,10 +213,11 @@ RunCheckpoint read_checkpoint(const fs::path& path) {
   Reader in(path);
   char magic[sizeof kMagic];
   in.bytes(magic, sizeof magic);
-  if (std::memcmp(magic, kMagicFormat1, sizeof kMagic) == 0)
-    throw RunError(fmt::format("the checkpoint {} was written by an earlier version of axonguide (checkpoint format 1); "
+  const bool format1 = std::memcmp(magic, kMagicFormat1, sizeof kMagic) == 0;
+  if (format1 || std::memcmp(magic, kMagicFormat2, sizeof kMagic) == 0)
+    throw RunError(fmt::format("the checkpoint {} was written by an earlier version of axonguide (checkpoint format {}); "
                                "this version cannot resume it: run again with --force to start over",
-                               path.string()));
+                               path.string(), format1 ? 1 : 2));
   if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) in.bad("not an axonguide checkpoint");
   if (in.pod<std::uint32_t>() != kByteOrder) in.bad("written on a machine of another byte order");
   RunCheckpoint c;

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "axonguide/engine/arbour_engine.hpp"
 #include "axonguide/engine/axon_stages.hpp"
 #include "axonguide/engine/cell_grid.hpp"
 #include "axonguide/engine/engine.hpp"
@@ -313,6 +314,7 @@ std::size_t reference_bytes_per_neuron() {
 }
 
 std::unique_ptr<Engine> make_reference_engine(const Scene& scene, Placement&& placement) {
+  if (scene.arbours) return make_arbour_engine(scene, std::move(placement));
   return std::make_unique<ReferenceEngine>(scene, std::move(placement));
 }
 

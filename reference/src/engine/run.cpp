@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "axonguide/engine/arbour_engine.hpp"
 #include "axonguide/engine/checkpoint.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/particles.hpp"
@@ -37,6 +38,9 @@ std::uint64_t estimate_run_bytes(const Scene& scene) {
     const double frames = scene.steps / static_cast<double>(scene.output.frames_every) + 1.0;
     bytes += frames * std::min(expected_particles(scene), static_cast<double>(kMaxFrameParticles)) * 26.0;
   }
+  // Arbours: their expected points (28 B each, doubled for vector growth) and cones.
+  if (scene.arbours) bytes += n * (expected_arbour_points(scene) * (2.0 * kArbourBytesPerPoint + 16.0) +
+                                   static_cast<double>(arbour_bytes_per_neuron()));
   // The output writers' row buffers (32 chunks of 8192 formatted rows).
   bytes += 48.0 * 1024 * 1024;
   // Particles; a grid field is checked when it is created (a scene error, exit 2).
@@ -182,11 +186,13 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     if (stop) throw Interrupted(step);
   };
   const std::uint32_t first = resume ? resume->step + 1 : 1;
+  // Arbour scenes write their cones' paths from the arbours (io/arbour_outputs.hpp).
+  const bool record_paths = scene.output.paths && !scene.arbours;
   if (!resume) {
     StepStats s0;
     s0.growing = scene.neurons.count;
     r.stats.push_back(s0);
-    if (scene.output.paths) {
+    if (record_paths) {
       r.paths.emplace_back();
       engine->tips(r.paths.back());
     }
@@ -197,7 +203,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     const StepStats s = engine->step(step, r.times);
     r.stats.push_back(s);
     r.steps_run = step;
-    if (scene.output.paths) {
+    if (record_paths) {
       r.paths.emplace_back();
       engine->tips(r.paths.back());
     }
@@ -213,6 +219,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   {
     ScopedPhase p(r.times, 0, "readback");
     engine->finish(r.neurons);
+    engine->arbours(r.arbours);
     if (engine_has_somas) engine->somas(r.soma);
   }
   {

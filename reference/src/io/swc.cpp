@@ -14,7 +14,39 @@ namespace axg {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// An arbour: the soma, then every cone's points in cone order (morphology::samples), each
+// with its type (2 axon, 3 dendrite) and the radius of its neurite type at its centrifugal
+// order (diameter x taper^order / 2).
+std::string arbour_swc_text(const RunResult& r, std::size_t i) {
+  const double um = r.scene.units.micrometres();
+  const ArbourKeys& k = *r.scene.arbours;
+  double radius[2][256];
+  for (int t = 0; t < 2; ++t) {
+    const NeuriteKeys& n = t == 0 ? k.axon : k.dendrites;
+    double d = n.diameter;
+    for (int o = 0; o < 256; ++o, d *= n.taper) radius[t][o] = 0.5 * d;
+  }
+  fmt::memory_buffer b;
+  auto out = std::back_inserter(b);
+  fmt::format_to(out, "# axonguide neuron {}: soma, then its arbour (axon 2, dendrites 3), cone by cone; micrometres\n", i);
+  const core::Vec3 soma = canonical(r.soma[i]);
+  fmt::format_to(out, "1 1 {} {} {} {} -1\n", soma.x * um, soma.y * um, soma.z * um,
+                 canonical(r.scene.neurons.soma_radius) * um);
+  const std::vector<morphology::Sample> s = morphology::samples(r.arbours[i]);
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    const core::Vec3 p = canonical(s[j].pos);
+    fmt::format_to(out, "{} {} {} {} {} {} {}\n", j + 2, s[j].type, p.x * um, p.y * um, p.z * um,
+                   radius[s[j].type == morphology::kAxonType ? 0 : 1][s[j].order], s[j].parent);
+  }
+  return fmt::to_string(b);
+}
+
+}  // namespace
+
 std::string swc_text(const RunResult& r, std::size_t i) {
+  if (r.scene.arbours) return arbour_swc_text(r, i);
   const double um = r.scene.units.micrometres();
   fmt::memory_buffer b;
   auto out = std::back_inserter(b);

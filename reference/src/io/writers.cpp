@@ -132,7 +132,24 @@ void write_bfs(const RunResult& r, AtomicFile& f) {
   });
 }
 
+// Arbour scenes: every point of every growth cone, neuron by neuron, cone by cone, with
+// the cone's parent cone (-1 for a stem), its type and order, and the step that made it.
+void write_arbour_paths(const RunResult& r, AtomicFile& f) {
+  f.write("id,cone,parent,type,order,step,x,y,z\n");
+  write_rows(f, r.arbours.size(), [&](std::size_t i, fmt::memory_buffer& b) {
+    const morphology::Arbour& a = r.arbours[i];
+    for (const morphology::Sample& s : morphology::samples(a)) {
+      const core::Vec3 p = canonical(s.pos);
+      const std::uint32_t parent = a.cones[s.cone].parent;
+      fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{},{},{},{},{}\n"), i, s.cone,
+                     parent == morphology::kNoCone ? std::int64_t{-1} : std::int64_t{parent}, s.type, s.order, s.step,
+                     p.x, p.y, p.z);
+    }
+  });
+}
+
 void write_paths(const RunResult& r, AtomicFile& f) {
+  if (r.scene.arbours) return write_arbour_paths(r, f);
   f.write("id,step,x,y,z\n");
   const auto& n = r.neurons;
   write_rows(f, n.size(), [&](std::size_t i, fmt::memory_buffer& b) {

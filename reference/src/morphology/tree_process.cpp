@@ -24,6 +24,7 @@ TreeOutcome grow_tree(const TreeProcess& p, std::uint32_t tree) {
         core::mean_order_weight(p.branching.s, by_order.data(), static_cast<int>(by_order.size()), n);
     const double grow = core::elongation(p.elongation, n, p.dt);
     const double t0 = static_cast<double>(k) * p.dt;
+    out.cone_steps += n;
     // Survivors keep their indices; daughters take the next ones in their parents' order,
     // so survivors then daughters is index order.
     next.clear();

@@ -33,6 +33,7 @@ double packing_fraction(const Scene::Neurons& n) {
     case RegionShape::kBall: return count * (r * r * r) / (R * R * R);
     case RegionShape::kBox: return count * (4.0 / 3.0 * M_PI * r * r * r) / (8.0 * R * R * R);
     case RegionShape::kSphere: return count * (r * r) / (4.0 * R * R);
+    case RegionShape::kDisc: return count * (r * r) / (R * R);
   }
   return 0.0;
 }
@@ -65,7 +66,8 @@ namespace {
 constexpr double kMaxVolumeFraction = 0.7405;
 constexpr double kMaxAreaFraction = 0.9069;
 
-const char* fraction_kind(const Scene::Neurons& nn) { return nn.shape == RegionShape::kSphere ? "area" : "volume"; }
+bool planar(const Scene::Neurons& nn) { return nn.shape == RegionShape::kSphere || nn.shape == RegionShape::kDisc; }
+const char* fraction_kind(const Scene::Neurons& nn) { return planar(nn) ? "area" : "volume"; }
 
 }  // namespace
 
@@ -77,7 +79,7 @@ void check_packing(const Scene& scene) {
         "placement impossible: a population's packing fraction is {:.4f} (somas of radius {}); random sequential "
         "addition jams near 0.38: enlarge neurons.populations[].radius or reduce its count",
         phi, nn.soma_radius));
-  const double limit = nn.shape == RegionShape::kSphere ? kMaxAreaFraction : kMaxVolumeFraction;
+  const double limit = planar(nn) ? kMaxAreaFraction : kMaxVolumeFraction;
   if (phi > limit)
     throw RunError(fmt::format(
         "placement impossible: packing fraction {:.4f} ({} fraction of {} somas of radius {} in a "
@@ -95,7 +97,7 @@ void placement_failed(const Scene& scene, std::uint64_t id) {
       "neurons.soma_radius, enlarge neurons.region.radius, raise neurons.max_attempts, or "
       "set neurons.overlap to \"allow\"",
       id, nn.max_attempts, packing_fraction(nn), fraction_kind(nn), nn.count, nn.soma_radius, name_of(nn.shape),
-      nn.radius, nn.shape == RegionShape::kSphere ? "0.547" : "0.38"));
+      nn.radius, planar(nn) ? "0.547" : "0.38"));
 }
 
 namespace {

@@ -90,6 +90,11 @@ core::Vec3 sample_region_point(core::RegionShape shape, double radius, Sampler s
                                core::Rng& rng) {
   switch (shape) {
     case core::RegionShape::kBox: return core::box_point(rng, radius);
+    case core::RegionShape::kDisc: {  // the unit disc by rejection (the scene refuses other samplers)
+      double x, y, s;
+      core::unit_disc(rng, &x, &y, &s);
+      return {radius * x, radius * y, 0.0};
+    }
     case core::RegionShape::kSphere: return radius * sample_direction3(sampler, rng);
     case core::RegionShape::kBall:
       if (sampler == Sampler::kRejection) return radius * core::unit_ball_rejection(rng);

@@ -48,7 +48,7 @@ void read_scene(const json& root, Scene& s) {
     if (const json* g = r.take("region")) {
       ObjectReader rr(*g, "neurons.region");
       rr.choice("shape", n.shape, {{"ball", RegionShape::kBall}, {"sphere", RegionShape::kSphere},
-                                   {"box", RegionShape::kBox}});
+                                   {"box", RegionShape::kBox}, {"disc", RegionShape::kDisc}});
       rr.number("radius", n.radius, positive());
       rr.finish();
     }
@@ -115,6 +115,8 @@ void read_scene(const json& root, Scene& s) {
     read_imposed_keys(r, s.cues.imposed);
     r.finish();
   }
+
+  if (const json* j = top.take("arbours")) read_arbour_keys(*j, s.arbours);
 
   if (const json* j = top.take("analysis")) {
     ObjectReader r(*j, "analysis");
@@ -186,6 +188,12 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
       throw InputError(fmt::format(
           "scene: analysis.bfs_sources[{}] = {}: must be a neuron id below neurons.count = {}", k,
           s.analysis.bfs_sources[k], n.count));
+  if (n.shape == RegionShape::kDisc && n.sampler != Sampler::kRejection)
+    throw InputError(fmt::format("scene: neurons.sampler = \"{}\": a disc is sampled by rejection only",
+                                 name_of(n.sampler)));
+  if (n.shape == RegionShape::kDisc && !n.populations.empty())
+    throw InputError("scene: neurons.populations need neurons.region.shape \"ball\" or \"box\" (it is \"disc\")");
+  check_arbours(s);
   check_steering(s);
   check_signalling(s);
   if (s.guidance.model == GuidanceModel::kDirect && !s.signalling()) {
@@ -230,7 +238,7 @@ void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warning
     scene.output.paths = true;
     warnings.push_back("output.vtk draws the axons' paths: output.paths is enabled");
   }
-  if (scene.output.swc && !scene.output.paths) {
+  if (scene.output.swc && !scene.output.paths && !scene.arbours) {
     scene.output.paths = true;
     warnings.push_back("output.swc writes the axons' paths: output.paths is enabled");
   }
@@ -245,6 +253,7 @@ const char* name_of(RegionShape v) {
     case RegionShape::kBall: return "ball";
     case RegionShape::kSphere: return "sphere";
     case RegionShape::kBox: return "box";
+    case RegionShape::kDisc: return "disc";
   }
   return "?";
 }
@@ -341,6 +350,7 @@ json scene_to_json(const Scene& s) {
   write_molecule_keys(s.cues, cues);
   write_particle_keys(s.cues.particles, cues["particles"]);
   write_grid_keys(s.cues.grid, cues);
+  if (s.arbours) j["arbours"] = write_arbour_keys(*s.arbours);  // only when given: older scenes keep their bytes
   j["analysis"] = {{"bfs_sources", s.analysis.bfs_sources}, {"components", s.analysis.components}};
   j["output"] = {{"paths", s.output.paths}, {"stats_every", s.output.stats_every},
                  {"vtk", s.output.vtk}, {"frames_every", s.output.frames_every}};

@@ -31,7 +31,7 @@ RC_GTEST_PROP(sampler, DirectionsHaveUnitNorm, (std::uint64_t seed, std::uint32_
 
 RC_GTEST_PROP(sampler, RegionPointsLieInTheRegion, (std::uint64_t seed, std::uint32_t id)) {
   const Sampler s = *gen_sampler();
-  const auto shape = *rc::gen::element(RegionShape::kBall, RegionShape::kSphere, RegionShape::kBox);
+  const auto shape = *rc::gen::element(RegionShape::kBall, RegionShape::kSphere, RegionShape::kBox, RegionShape::kDisc);
   const double R = *rc::gen::inRange(1, 1000) / 10.0;
   Rng rng(seed, Stream::kPlacement, id, 0);
   const core::Vec3 p = sample_region_point(shape, R, s, rng);
@@ -42,6 +42,7 @@ RC_GTEST_PROP(sampler, RegionPointsLieInTheRegion, (std::uint64_t seed, std::uin
     case RegionShape::kBox:
       RC_ASSERT(std::fabs(p.x) < R && std::fabs(p.y) < R && std::fabs(p.z) < R);
       break;
+    case RegionShape::kDisc: RC_ASSERT(p.z == 0.0 && r < R); break;
   }
 }
 

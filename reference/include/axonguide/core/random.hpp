@@ -36,6 +36,10 @@ enum class Stream : std::uint32_t {
   kSourceKind = 11,       // id = source index: attractant or repellent for random_sources
   kWander = 12,           // id = neuron, step = step: the axis of the heading's random walk
   kBranch = 13,           // id = growth cone (core::cone_key), step = step: does the cone branch
+  kConeWander = 14,       // id = growth cone, step = step: the axis (or side) of its heading's random walk
+  kConeBirth = 15,        // id = growth cone, step = 0: its elongation-rate factor, stem heading and height
+  kConeSplit = 16,        // id = growth cone, step = step: the angle and plane between its daughters
+  kStems = 17,            // id = neuron, step = step (0: birth): how many stems start (axons, dendrites)
 };
 
 struct Counter {

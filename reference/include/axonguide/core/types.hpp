@@ -4,7 +4,8 @@
 
 namespace axg::core {
 
-enum class RegionShape : std::uint8_t { kBall, kSphere, kBox };
+// kDisc: a monolayer culture, somas uniform in the disc of the radius in the plane z = 0.
+enum class RegionShape : std::uint8_t { kBall, kSphere, kBox, kDisc };
 enum class Sampler : std::uint8_t { kRejection, kNormal, kTrig, kCoordinate };
 enum class ContactRule : std::uint8_t { kSwept, kEndpoint };
 // kSourceVectorSum: the report's vector rule (unit vectors toward each sensed particle's

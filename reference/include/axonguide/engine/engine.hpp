@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "axonguide/graph/graph.hpp"
+#include "axonguide/morphology/arbour.hpp"
 #include "axonguide/placement/placement.hpp"
 #include "axonguide/scene/scene.hpp"
 #include "axonguide/engine/state.hpp"
@@ -47,6 +48,8 @@ class Engine {
   }
   // Final per-neuron state; axons still growing are reported as max_steps.
   virtual void finish(NeuronState& out) = 0;
+  // After finish(): the arbours by neuron id, moved out (arbour scenes; empty otherwise).
+  virtual void arbours(std::vector<morphology::Arbour>& out) { out.clear(); }
   // The somas in id order, from an engine that took the placement's (the reference
   // engine built by make_reference_engine(scene, Placement&&)): a copy before finish(),
   // the engine's own after it. The run calls it only for such an engine.
@@ -71,6 +74,7 @@ std::size_t reference_bytes_per_neuron();
 // The reference engine. Given the placement to keep, it takes the arrays (the placement is
 // left empty) and holds one copy of the somas, which somas() gives back; given a const
 // placement, it copies it first.
+// An arbour scene (scene.arbours) gets the arbour engine (engine/arbour_engine.hpp).
 std::unique_ptr<Engine> make_reference_engine(const Scene& scene, Placement&& placement);
 std::unique_ptr<Engine> make_reference_engine(const Scene& scene, const Placement& placement);
 

@@ -72,6 +72,7 @@ struct RunResult {
   std::vector<core::Vec3> soma;
   std::uint64_t placement_redraws = 0;
   NeuronState neurons;
+  std::vector<morphology::Arbour> arbours;  // arbour scenes: by neuron id
   std::vector<StepStats> stats;           // step 0 and every step run
   std::vector<std::vector<core::Vec3>> paths;  // tips after each step (output.paths)
   std::vector<core::CueParams> cues;           // the sources, positions resolved

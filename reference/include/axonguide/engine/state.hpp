@@ -60,6 +60,8 @@ struct EngineState {
   // The sums of the open decision interval (core::kSumsPerCue per cue per neuron, by id);
   // empty when every interval is one step.
   std::vector<double> guidance;
+  // Arbour scenes: every neuron's arbour (morphology::append_arbours).
+  std::vector<std::uint8_t> arbour;
 };
 
 // Wall-clock time per (step, phase): the only output allowed to vary between runs.

@@ -10,7 +10,7 @@
 namespace axg {
 
 // The SWC of neuron i: the soma, then the axon's tip after each step it grew (r.paths,
-// output.paths). Coordinates and radii in micrometres (LU x kMicrometresPerLu when the
+// output.paths); in an arbour scene, the soma and every point of its arbour. Coordinates and radii in micrometres (LU x kMicrometresPerLu when the
 // scene declares no length unit).
 std::string swc_text(const RunResult& r, std::size_t i);
 

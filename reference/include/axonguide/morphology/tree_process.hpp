@@ -27,6 +27,7 @@ struct TreeOutcome {
   double total_length = 0;
   double terminal_length = 0;      // summed over terminal segments
   double intermediate_length = 0;  // summed over intermediate segments
+  double cone_steps = 0;           // the cones grown, summed over the steps (an arbour's points)
 };
 
 // Grows tree `tree` (its neuron id in the cone keys) from one cone at t = 0: each step every

@@ -16,6 +16,7 @@
 
 #include "axonguide/core/types.hpp"
 #include "axonguide/core/vec3.hpp"
+#include "axonguide/model/arbours.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/estimate.hpp"
 #include "axonguide/model/growth.hpp"
@@ -93,6 +94,10 @@ struct Scene {
     ParticleKeys particles;
     GridKeys grid;
   } cues;
+
+  // arbours (SPEC §3.8): branching axons and dendrites; nullopt: one unbranched axon per
+  // neuron (the report's model).
+  std::optional<ArbourKeys> arbours;
 
   struct Analysis {
     std::vector<std::uint64_t> bfs_sources{0};

@@ -1,0 +1,43 @@
+#pragma once
+// The arbour engine (SPEC §3.8; docs/methods.md §2.12): every neuron grows an axon arbour
+// and dendrites whose growth cones elongate, wander, branch (BESTL) and stop. Neurons are
+// independent within a step (a cone reads only the somas), so each neuron's cones are
+// stepped in index order by one task and the neurons in parallel: the bytes are the same
+// for any thread count.
+#include <cstdint>
+#include <memory>
+
+#include "axonguide/engine/engine.hpp"
+#include "axonguide/model/arbours.hpp"
+#include "axonguide/morphology/arbour.hpp"
+
+namespace axg {
+
+// One step (1-based) of one neuron's arbour: new stems (at birth, step 0, from the stem
+// distributions), then every growing cone in index order elongates by v0 n^-F dt times its
+// rate factor, moves, meets a soma or the bounds, and takes its heading's random walk;
+// then it may branch into two daughters (the next indices), and new stems start at the
+// stem rates. Returns the points it added.
+struct ArbourContext {
+  const ArbourParams* params;
+  const core::GrowthParams* growth;  // contact radius, bounds and rule
+  const core::CellGridView* somas;
+  std::uint64_t seed;
+  double dt;
+  double soma_radius;
+};
+void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, morphology::Arbour& a);
+void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, std::uint32_t step,
+                 morphology::Arbour& a);
+
+// The expected points per neuron (a pilot of 64 topology-only trees per neurite type,
+// morphology/tree_process.hpp, times the expected stems): the memory estimate's.
+double expected_arbour_points(const Scene& scene);
+
+// Bytes the arbour engine needs before growth (per neuron), and per stored point.
+std::size_t arbour_bytes_per_neuron();
+inline constexpr std::size_t kArbourBytesPerPoint = sizeof(core::Vec3) + 4;
+
+std::unique_ptr<Engine> make_arbour_engine(const Scene& scene, Placement&& placement);
+
+}  // namespace axg

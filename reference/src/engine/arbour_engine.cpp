@@ -1,0 +1,350 @@
+// The arbour engine (docs/methods.md §2.12): neurons in parallel, each neuron's cones in
+// index order, every draw keyed on (neuron, cone index) or the neuron.
+#include "axonguide/engine/arbour_engine.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "axonguide/core/arbour.hpp"
+#include "axonguide/core/branching.hpp"
+#include "axonguide/core/growth.hpp"
+#include "axonguide/engine/cell_grid.hpp"
+#include "axonguide/model/growth.hpp"
+#include "axonguide/morphology/tree_process.hpp"
+#include "axonguide/support/error.hpp"
+
+namespace axg {
+
+using morphology::Arbour;
+using morphology::Cone;
+using morphology::ConeStatus;
+using morphology::kAxonType;
+using morphology::kDendriteType;
+using morphology::kNoCone;
+using morphology::Tree;
+
+namespace {
+
+const NeuriteParams& neurite(const ArbourParams& p, std::uint8_t type) {
+  return type == kAxonType ? p.axon : p.dendrites;
+}
+
+std::uint32_t next_index(std::uint32_t neuron, const Arbour& a) {
+  if (a.cones.size() >= core::kConesPerNeuron)
+    throw RunError(fmt::format("arbours: neuron {} has grown 2^24 growth cones (the most a neuron's cone ids hold); "
+                               "lower the branching rates or the steps",
+                               neuron));
+  return static_cast<std::uint32_t>(a.cones.size());
+}
+
+// A new stem of `type` at the end of step `born`: its own tree, its start on the soma's
+// surface (raised to its height in a culture's growth layer), its heading and rate factor
+// drawn on (seed, kConeBirth, cone, 0).
+void new_stem(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, std::uint8_t type, std::uint32_t born,
+              Arbour& a) {
+  const std::uint32_t index = next_index(neuron, a);
+  const NeuriteParams& p = neurite(*ctx.params, type);
+  core::Rng rng(ctx.seed, core::Stream::kConeBirth, core::cone_key(neuron, index), 0);
+  Cone c;
+  c.heading = core::stem_heading(ctx.params->planar, rng);
+  c.rate = core::rate_factor(p.geometry.rate_sigma, rng);
+  const double height = ctx.params->planar ? ctx.params->slab * rng.uniform_co() : 0.0;
+  c.tip = soma + ctx.soma_radius * c.heading + core::Vec3{0.0, 0.0, height};
+  c.born = c.ended = born;
+  c.type = type;
+  c.tree = static_cast<std::uint16_t>(a.trees.size());
+  if (a.trees.size() >= 0xffff)
+    throw RunError(fmt::format("arbours: neuron {} has started 65535 stems (the most a neuron's tree ids hold); lower "
+                               "arbours.*.stem_rate",
+                               neuron));
+  Tree t;
+  t.type = type;
+  t.born = born;
+  t.growing = 1;
+  t.by_order = {1};
+  a.trees.push_back(std::move(t));
+  a.cones.push_back(c);
+  a.point.push_back(c.tip);
+  a.cone_of.push_back(index);
+  a.growing.push_back(index);
+}
+
+// Poisson(m) by inversion of one uniform in (0, 1) (m is small: stems per step).
+int poisson(double m, double u) {
+  double p = core::pm::exp(-m), f = p;
+  int k = 0;
+  while (u > f && k < 1000) {
+    ++k;
+    p = p * m / static_cast<double>(k);
+    f += p;
+  }
+  return k;
+}
+
+}  // namespace
+
+void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, Arbour& a) {
+  core::Rng rng(ctx.seed, core::Stream::kStems, neuron, 0);
+  const int axons = draw_count(ctx.params->axon.stems_cdf, rng.uniform());
+  const int dendrites = draw_count(ctx.params->dendrites.stems_cdf, rng.uniform());
+  for (int k = 0; k < axons; ++k) new_stem(ctx, neuron, soma, kAxonType, 0, a);
+  for (int k = 0; k < dendrites; ++k) new_stem(ctx, neuron, soma, kDendriteType, 0, a);
+}
+
+void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, std::uint32_t step, Arbour& a) {
+  const ArbourParams& P = *ctx.params;
+  const double dt = ctx.dt;
+  const double t0 = static_cast<double>(step - 1) * dt;
+  // n and C of every tree at the step's start (the rule holds them over the step).
+  thread_local std::vector<int> n;
+  thread_local std::vector<double> mean_weight;
+  thread_local std::vector<std::uint32_t> next, daughters;
+  n.resize(a.trees.size());
+  mean_weight.resize(a.trees.size());
+  for (std::size_t t = 0; t < a.trees.size(); ++t) {
+    const Tree& tree = a.trees[t];
+    n[t] = tree.growing;
+    mean_weight[t] = tree.growing > 0 ? core::mean_order_weight(neurite(P, tree.type).branching.s, tree.by_order.data(),
+                                                                static_cast<int>(tree.by_order.size()), tree.growing)
+                                      : 1.0;
+  }
+  next.clear();
+  daughters.clear();
+  for (const std::uint32_t idx : a.growing) {
+    const std::uint64_t key = core::cone_key(neuron, idx);
+    const Cone c0 = a.cones[idx];
+    const NeuriteParams& p = neurite(P, c0.type);
+    const int trees_n = n[c0.tree];
+    const double l = core::elongation(p.elongation, trees_n, dt) * c0.rate;
+    // Move, then contact and bounds (core/growth.hpp's step; contact only when cones stop at somas).
+    core::AxonStep st;
+    if (P.stop_at_soma) {
+      st = core::grow_axon(neuron, c0.tip, c0.heading, l, *ctx.growth, *ctx.somas);
+    } else {
+      const core::Vec3 to = c0.tip + l * c0.heading;
+      st = {to, l, core::outside_bounds(to, *ctx.growth) ? core::AxonStatus::kExited : core::AxonStatus::kGrowing,
+            core::kNoNeuron};
+    }
+    Cone& c = a.cones[idx];
+    c.tip = st.tip;
+    c.length += st.advanced;
+    c.ended = step;
+    a.point.push_back(st.tip);
+    a.cone_of.push_back(idx);
+    Tree& tree = a.trees[c.tree];
+    if (st.status != core::AxonStatus::kGrowing) {
+      c.status = st.status == core::AxonStatus::kConnected ? ConeStatus::kSoma : ConeStatus::kExited;
+      --tree.growing;
+      --tree.by_order[c.order];
+      continue;
+    }
+    c.heading = core::cone_wander(c.heading, l, p.geometry, ctx.seed, key, step);
+    const double q = core::branch_probability(p.branching, t0 - static_cast<double>(tree.born) * dt, dt, trees_n,
+                                              c.order, mean_weight[c.tree]);
+    if (!(q > 0.0) || !core::branches(q, ctx.seed, key, step)) {
+      next.push_back(idx);
+      continue;
+    }
+    // Two daughters take the next indices; the parent's segment ends at the branch point.
+    core::Vec3 h[2];
+    core::daughter_headings(c.heading, p.geometry, ctx.seed, key, step, &h[0], &h[1]);
+    c.status = ConeStatus::kBranched;
+    const std::uint8_t order = c.order == 255 ? 255 : static_cast<std::uint8_t>(c.order + 1);
+    --tree.by_order[c.order];
+    if (tree.by_order.size() <= order) tree.by_order.resize(order + 1u, 0);
+    tree.by_order[order] += 2;
+    ++tree.growing;
+    const Cone parent = c;  // `c` dangles once the daughters are pushed
+    for (int d = 0; d < 2; ++d) {
+      const std::uint32_t index = next_index(neuron, a);
+      core::Rng rng(ctx.seed, core::Stream::kConeBirth, core::cone_key(neuron, index), 0);
+      Cone child;
+      child.tip = parent.tip;
+      child.heading = h[d];
+      child.rate = core::rate_factor(p.geometry.rate_sigma, rng);
+      child.parent = idx;
+      child.born = child.ended = step;
+      child.tree = parent.tree;
+      child.type = parent.type;
+      child.order = order;
+      a.cones.push_back(child);
+      daughters.push_back(index);
+    }
+  }
+  next.insert(next.end(), daughters.begin(), daughters.end());
+  a.growing.swap(next);
+  // New stems at the end of the step: Poisson with mean (stem rate) dt, axons then dendrites.
+  if (P.axon.stem_rate > 0.0 || P.dendrites.stem_rate > 0.0) {
+    core::Rng rng(ctx.seed, core::Stream::kStems, neuron, step);
+    const int axons = poisson(P.axon.stem_rate * dt, rng.uniform());
+    const int dendrites = poisson(P.dendrites.stem_rate * dt, rng.uniform());
+    for (int k = 0; k < axons; ++k) new_stem(ctx, neuron, soma, kAxonType, step, a);
+    for (int k = 0; k < dendrites; ++k) new_stem(ctx, neuron, soma, kDendriteType, step, a);
+  }
+}
+
+double expected_arbour_points(const Scene& scene) {
+  if (!scene.arbours) return 0.0;
+  const ArbourParams p = arbour_params(scene);
+  double points = 0.0;
+  for (const NeuriteParams* q : {&p.axon, &p.dendrites}) {
+    // Stems: the birth distribution's mean, and the rate's over the run (each a full run's).
+    double stems = 0.0, previous = 0.0;
+    for (std::size_t k = 0; k < q->stems_cdf.size(); ++k) {
+      stems += static_cast<double>(k) * (q->stems_cdf[k] - previous);
+      previous = q->stems_cdf[k];
+    }
+    stems += q->stem_rate * static_cast<double>(scene.steps) * scene.dt;
+    if (stems == 0.0) continue;
+    // A tree's points are its cone-steps: a pilot of the topology-only process.
+    morphology::TreeProcess tp;
+    tp.branching = q->branching;
+    tp.elongation = q->elongation;
+    tp.dt = scene.dt;
+    tp.steps = scene.steps;
+    tp.seed = scene.seed;
+    const std::uint32_t trees = 64;
+    double cone_steps = 0.0;
+    for (const morphology::TreeOutcome& o : morphology::grow_trees(tp, trees)) cone_steps += o.cone_steps;
+    points += stems * (1.0 + cone_steps / trees);
+  }
+  return points;
+}
+
+std::size_t arbour_bytes_per_neuron() {
+  // soma (grid copy, id order), grid id, cell start, the Arbour's vectors, one stem each.
+  return 3 * sizeof(core::Vec3) + 8 + sizeof(Arbour) + 2 * sizeof(Cone) + 2 * sizeof(Tree) + 64;
+}
+
+namespace {
+
+struct ConeCounts {
+  std::uint64_t growing_neurons = 0, soma = 0, exited = 0;
+};
+
+class ArbourEngine final : public Engine {
+ public:
+  ArbourEngine(const Scene& scene, Placement&& placement)
+      : scene_(scene), params_(arbour_params(scene)), growth_(growth_params(scene)) {
+    soma_ = std::move(placement.soma);
+    placement = Placement{};
+    grid_ = build_cell_grid(soma_grid_geometry(scene), soma_);
+    view_ = grid_.view();
+    arbours_.resize(soma_.size());
+    restarts_ = params_.axon.stem_rate > 0.0 || params_.dendrites.stem_rate > 0.0;
+    const ArbourContext ctx = context();
+    tbb::parallel_for(std::size_t{0}, soma_.size(), [&](std::size_t i) {
+      start_arbour(ctx, static_cast<std::uint32_t>(i), soma_[i], arbours_[i]);
+    });
+  }
+
+  void warm_up() override {}
+
+  void save(EngineState& out) override {
+    const std::size_t n = soma_.size();
+    out.axons.resize(n);
+    out.heading.assign(n, core::Vec3{0, 0, 0});
+    out.connected = stats_.connected;
+    out.exited = stats_.exited;
+    out.arbour.clear();
+    morphology::append_arbours(arbours_, out.arbour);
+  }
+
+  void load(const EngineState& in) override {
+    try {
+      arbours_ = morphology::read_arbours(in.arbour);
+    } catch (const std::runtime_error& e) {
+      throw RunError(e.what());
+    }
+    if (arbours_.size() != soma_.size())
+      throw RunError("checkpoint: its arbours are not the scene's neurons");
+    stats_.connected = in.connected;
+    stats_.exited = in.exited;
+  }
+
+  StepStats step(std::uint32_t step, PhaseTimes& times) override {
+    ScopedPhase phase(times, step, "grow");
+    const ArbourContext ctx = context();
+    const ConeCounts c = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, soma_.size()), ConeCounts{},
+        [&](const tbb::blocked_range<std::size_t>& r, ConeCounts acc) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            Arbour& a = arbours_[i];
+            if (a.growing.empty() && !restarts_) continue;
+            const std::size_t first = a.point.size();
+            step_arbour(ctx, static_cast<std::uint32_t>(i), soma_[i], step, a);
+            for (std::size_t k = first; k < a.point.size(); ++k) {  // the cones that stopped this step
+              const ConeStatus s = a.cones[a.cone_of[k]].status;
+              if (a.cones[a.cone_of[k]].ended != step) continue;
+              acc.soma += s == ConeStatus::kSoma;
+              acc.exited += s == ConeStatus::kExited;
+            }
+            acc.growing_neurons += !a.growing.empty() || restarts_;
+          }
+          return acc;
+        },
+        [](ConeCounts x, ConeCounts y) {
+          return ConeCounts{x.growing_neurons + y.growing_neurons, x.soma + y.soma, x.exited + y.exited};
+        });
+    stats_.step = step;
+    stats_.growing = c.growing_neurons;
+    stats_.connected += c.soma;
+    stats_.exited += c.exited;
+    return stats_;
+  }
+
+  void tips(std::vector<core::Vec3>& out) override {
+    out.resize(soma_.size());
+    for (std::size_t i = 0; i < soma_.size(); ++i) out[i] = morphology::summarize(arbours_[i], soma_[i]).farthest;
+  }
+
+  void finish(NeuronState& out) override {
+    const std::size_t n = soma_.size();
+    out.resize(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      const morphology::ArbourSummary s = morphology::summarize(arbours_[i], soma_[i]);
+      out.tip[i] = s.farthest;
+      out.length[i] = s.axon_length;
+      out.status[i] = s.growing ? core::AxonStatus::kMaxSteps : core::AxonStatus::kExited;
+      out.steps[i] = s.last_step;
+    });
+  }
+
+  void somas(std::vector<core::Vec3>& out) override { out = soma_; }
+
+  void arbours(std::vector<Arbour>& out) override { out = std::move(arbours_); }
+
+  std::size_t bytes() const override {
+    std::size_t b = grid_.bytes() + soma_.capacity() * sizeof(core::Vec3) + arbours_.capacity() * sizeof(Arbour);
+    for (const Arbour& a : arbours_) b += a.bytes();
+    return b;
+  }
+
+ private:
+  ArbourContext context() const {
+    return {&params_, &growth_, &view_, scene_.seed, scene_.dt, scene_.neurons.soma_radius};
+  }
+
+  const Scene& scene_;
+  ArbourParams params_;
+  core::GrowthParams growth_;
+  std::vector<core::Vec3> soma_;  // by id
+  CellGrid grid_;
+  core::CellGridView view_{};
+  std::vector<Arbour> arbours_;
+  bool restarts_ = false;  // stems start at a rate: a neuron without growing cones may grow again
+  StepStats stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> make_arbour_engine(const Scene& scene, Placement&& placement) {
+  return std::make_unique<ArbourEngine>(scene, std::move(placement));
+}
+
+}  // namespace axg

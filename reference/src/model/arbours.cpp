@@ -1,0 +1,175 @@
+#include "axonguide/model/arbours.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "axonguide/core/pmath.hpp"
+#include "axonguide/scene/reader.hpp"
+#include "axonguide/scene/scene.hpp"
+#include "axonguide/support/error.hpp"
+
+namespace axg {
+
+using nlohmann::json;
+
+ArbourKeys::ArbourKeys() {
+  dendrites.stems = {1.0};  // no dendrites unless asked for
+  dendrites.diameter = 2.0;
+}
+
+namespace {
+
+constexpr std::size_t kMaxStemCount = 64;
+
+void read_stems(ObjectReader& r, std::vector<double>& out) {
+  const json* v = r.take("stems");
+  if (!v) return;
+  const std::string path = r.path("stems");
+  const char* what = "must be a distribution of the stem count at birth: [P(0), P(1), ...], 1 to 64 non-negative "
+                     "numbers that sum to 1";
+  if (!v->is_array() || v->empty() || v->size() > kMaxStemCount) fail_key(path, *v, what);
+  out.clear();
+  double sum = 0.0;
+  for (std::size_t k = 0; k < v->size(); ++k) {
+    const json& x = (*v)[k];
+    if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < 0.0)
+      fail_key(fmt::format("{}[{}]", path, k), x, what);
+    out.push_back(x.get<double>());
+    sum += x.get<double>();
+  }
+  if (!(std::fabs(sum - 1.0) <= 1e-9)) fail_key(path, *v, fmt::format("{} (these sum to {})", what, sum));
+}
+
+void read_neurite(const json& j, const std::string& path, NeuriteKeys& n) {
+  ObjectReader r(j, path);
+  r.number("B", n.b, non_negative());
+  r.number("E", n.e, non_negative());
+  r.number("S", n.s, {});
+  if (const json* t = r.take("tau")) {
+    if (!t->is_null()) n.tau = ObjectReader::read_number(*t, r.path("tau"), positive());
+    else n.tau.reset();
+  }
+  if (const json* t = r.take("period")) {
+    if (!t->is_null()) n.period = ObjectReader::read_number(*t, r.path("period"), positive());
+    else n.period.reset();
+  }
+  r.number("v0", n.v0, non_negative());
+  r.number("F", n.f, non_negative());
+  r.number("rate_cv", n.rate_cv, non_negative());
+  r.number("angle", n.angle, {0.0, core::kPi, true, true});
+  r.number("angle_sd", n.angle_sd, non_negative());
+  if (const json* t = r.take("persistence_length")) {
+    if (!t->is_null()) n.persistence_length = ObjectReader::read_number(*t, r.path("persistence_length"), positive());
+    else n.persistence_length.reset();
+  }
+  r.number("diameter", n.diameter, positive());
+  r.number("taper", n.taper, {0.0, 1.0, true, false});
+  read_stems(r, n.stems);
+  r.number("stem_rate", n.stem_rate, non_negative());
+  r.finish();
+}
+
+json write_neurite(const NeuriteKeys& n) {
+  auto opt = [](const std::optional<double>& x) { return x ? json(*x) : json(nullptr); };
+  return {{"B", n.b},
+          {"E", n.e},
+          {"S", n.s},
+          {"tau", opt(n.tau)},
+          {"period", opt(n.period)},
+          {"v0", n.v0},
+          {"F", n.f},
+          {"rate_cv", n.rate_cv},
+          {"angle", n.angle},
+          {"angle_sd", n.angle_sd},
+          {"persistence_length", opt(n.persistence_length)},
+          {"diameter", n.diameter},
+          {"taper", n.taper},
+          {"stems", n.stems},
+          {"stem_rate", n.stem_rate}};
+}
+
+NeuriteParams neurite_params(const NeuriteKeys& k, const Scene& s, bool planar) {
+  NeuriteParams p;
+  p.branching.b_inf = k.b;
+  p.branching.e = k.e;
+  p.branching.s = k.s;
+  p.branching.tau = k.tau.value_or(0.0);
+  p.branching.period = k.period.value_or(static_cast<double>(s.steps) * s.dt);
+  p.elongation.v0 = k.v0;
+  p.elongation.f = k.f;
+  p.geometry.planar = planar;
+  p.geometry.wander = k.persistence_length.has_value();
+  p.geometry.inv_persistence = k.persistence_length ? 1.0 / *k.persistence_length : 0.0;
+  p.geometry.angle_mean = k.angle;
+  p.geometry.angle_sd = k.angle_sd;
+  p.geometry.rate_sigma = k.rate_cv == 0.0 ? 0.0 : std::sqrt(core::pm::log1p(k.rate_cv * k.rate_cv));
+  double c = 0.0;
+  for (const double q : k.stems) p.stems_cdf.push_back(c += q);
+  p.stem_rate = k.stem_rate;
+  p.diameter = k.diameter;
+  p.taper = k.taper;
+  return p;
+}
+
+}  // namespace
+
+void read_arbour_keys(const json& j, std::optional<ArbourKeys>& out) {
+  if (j.is_null()) {
+    out.reset();
+    return;
+  }
+  ArbourKeys a;
+  ObjectReader r(j, "arbours");
+  r.number("slab", a.slab, non_negative());
+  r.choice("soma_contact", a.stop_at_soma, {{"stop", true}, {"pass", false}});
+  if (const json* x = r.take("axon")) read_neurite(*x, "arbours.axon", a.axon);
+  if (const json* x = r.take("dendrites")) read_neurite(*x, "arbours.dendrites", a.dendrites);
+  r.finish();
+  out = a;
+}
+
+json write_arbour_keys(const ArbourKeys& a) {
+  return {{"slab", a.slab},
+          {"soma_contact", a.stop_at_soma ? "stop" : "pass"},
+          {"axon", write_neurite(a.axon)},
+          {"dendrites", write_neurite(a.dendrites)}};
+}
+
+void check_arbours(const Scene& s) {
+  if (!s.arbours) return;
+  if (s.guidance.model != GuidanceModel::kDirect || s.signalling())
+    throw InputError(fmt::format(
+        "scene: arbours with guidance.model = \"{}\"{}: growth cones of arbours wander and branch, but steering them "
+        "by cues is not built yet (docs/methods.md §2.12); use guidance.model \"direct\" and the constant growth "
+        "model",
+        name_of(s.guidance.model), s.signalling() ? " and the signalling growth model" : ""));
+  if (s.output.vtk)
+    fail_key("output.vtk", true, "VTK polylines of arbours are not built yet: set output.vtk false (morphologies/*.swc and "
+                                 "paths.csv hold the arbours)");
+  if (s.output.sonata)
+    fail_key("output.sonata", true, "SONATA morphology references for arbours are not built yet: set output.sonata "
+                                    "false (morphologies/*.swc hold the arbours)");
+  if (s.arbours->slab > 0.0 && s.neurons.shape != RegionShape::kDisc)
+    fail_key("arbours.slab", s.arbours->slab,
+             "a growth layer belongs to a culture: neurons.region.shape \"disc\" (or slab 0)");
+}
+
+ArbourParams arbour_params(const Scene& s) {
+  ArbourParams p;
+  if (!s.arbours) return p;
+  p.planar = s.neurons.shape == RegionShape::kDisc;
+  p.slab = s.arbours->slab;
+  p.stop_at_soma = s.arbours->stop_at_soma;
+  p.axon = neurite_params(s.arbours->axon, s, p.planar);
+  p.dendrites = neurite_params(s.arbours->dendrites, s, p.planar);
+  return p;
+}
+
+int draw_count(const std::vector<double>& cdf, double u) {
+  for (std::size_t k = 0; k < cdf.size(); ++k)
+    if (u < cdf[k]) return static_cast<int>(k);
+  return static_cast<int>(cdf.size()) - 1;
+}
+
+}  // namespace axg

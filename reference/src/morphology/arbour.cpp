@@ -1,0 +1,181 @@
+// Arbours as grown, as SWC samples, summarised, and as checkpoint bytes (docs/methods.md §2.12).
+#include "axonguide/morphology/arbour.hpp"
+
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+
+namespace axg::morphology {
+
+std::vector<Sample> samples(const Arbour& a) {
+  const std::size_t cones = a.cones.size();
+  std::vector<std::uint32_t> count(cones, 0), first(cones + 1, 0);
+  for (const std::uint32_t c : a.cone_of) ++count[c];
+  for (std::size_t c = 0; c < cones; ++c) first[c + 1] = first[c] + count[c];
+  std::vector<Sample> out(a.point.size());
+  std::vector<std::uint32_t> fill(cones, 0);
+  // The sample id of cone c's last point, or, for a cone without points, its parent's (a
+  // branched cone always grew: it branches at the end of a step it grew in).
+  auto last_sample = [&](std::uint32_t c) -> std::uint32_t {
+    while (c != kNoCone && count[c] == 0) c = a.cones[c].parent;
+    return c == kNoCone ? 1u : 2u + first[c] + count[c] - 1u;
+  };
+  for (std::size_t i = 0; i < a.point.size(); ++i) {
+    const std::uint32_t c = a.cone_of[i];
+    const Cone& cone = a.cones[c];
+    const std::uint32_t k = fill[c]++;
+    Sample& s = out[first[c] + k];
+    s.pos = a.point[i];
+    s.cone = c;
+    s.type = cone.type;
+    s.order = cone.order;
+    const bool stem = cone.parent == kNoCone;
+    s.step = stem ? cone.born + k : cone.born + 1 + k;
+    s.parent = k > 0 ? 2u + first[c] + k - 1u : stem ? 1u : last_sample(cone.parent);
+  }
+  return out;
+}
+
+ArbourSummary summarize(const Arbour& a, core::Vec3 soma) {
+  ArbourSummary s;
+  for (const Cone& c : a.cones) {
+    if (c.type == kAxonType) s.axon_length += c.length;
+    if (c.ended > s.last_step) s.last_step = c.ended;
+    if (c.status == ConeStatus::kGrowing) s.growing = true;
+  }
+  double best = -1.0;
+  for (std::size_t i = 0; i < a.point.size(); ++i) {
+    if (a.cones[a.cone_of[i]].type != kAxonType) continue;
+    const double d = core::norm2(a.point[i] - soma);
+    if (d > best) {
+      best = d;
+      s.farthest = a.point[i];
+    }
+  }
+  if (best < 0.0) s.farthest = soma;
+  return s;
+}
+
+namespace {
+
+template <class T>
+void put(std::vector<std::uint8_t>& out, const T& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+  out.insert(out.end(), p, p + sizeof v);
+}
+
+template <class T>
+void put_array(std::vector<std::uint8_t>& out, const std::vector<T>& v) {
+  put<std::uint64_t>(out, v.size());
+  const auto* p = reinterpret_cast<const std::uint8_t*>(v.data());
+  out.insert(out.end(), p, p + v.size() * sizeof(T));
+}
+
+class Cursor {
+ public:
+  explicit Cursor(const std::vector<std::uint8_t>& in) : in_(in) {}
+  template <class T>
+  T get() {
+    T v;
+    take(&v, sizeof v);
+    return v;
+  }
+  template <class T>
+  void get_array(std::vector<T>& v) {
+    const auto n = get<std::uint64_t>();
+    if (n > (in_.size() - at_) / sizeof(T)) throw std::runtime_error("checkpoint: an arbour array longer than its bytes");
+    v.resize(n);
+    take(v.data(), n * sizeof(T));
+  }
+  bool done() const { return at_ == in_.size(); }
+
+ private:
+  void take(void* p, std::size_t n) {
+    if (n > in_.size() - at_) throw std::runtime_error("checkpoint: the arbours are truncated");
+    std::memcpy(p, in_.data() + at_, n);
+    at_ += n;
+  }
+  const std::vector<std::uint8_t>& in_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+void append_arbours(const std::vector<Arbour>& arbours, std::vector<std::uint8_t>& out) {
+  put<std::uint64_t>(out, arbours.size());
+  for (const Arbour& a : arbours) {
+    put_array(out, a.point);
+    put_array(out, a.cone_of);
+    put<std::uint64_t>(out, a.cones.size());
+    for (const Cone& c : a.cones) {  // field by field: no padding bytes
+      put(out, c.tip);
+      put(out, c.heading);
+      put(out, c.rate);
+      put(out, c.length);
+      put(out, c.parent);
+      put(out, c.born);
+      put(out, c.ended);
+      put(out, c.tree);
+      put(out, c.type);
+      put(out, c.order);
+      put(out, c.status);
+    }
+    put<std::uint64_t>(out, a.trees.size());
+    for (const Tree& t : a.trees) {
+      put(out, t.type);
+      put(out, t.born);
+      put(out, t.growing);
+      put_array(out, t.by_order);
+    }
+    put_array(out, a.growing);
+  }
+}
+
+std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
+  Cursor c(in);
+  const auto n = c.get<std::uint64_t>();
+  if (n > in.size()) throw std::runtime_error("checkpoint: more arbours than bytes");
+  std::vector<Arbour> out(n);
+  for (Arbour& a : out) {
+    c.get_array(a.point);
+    c.get_array(a.cone_of);
+    const auto cones = c.get<std::uint64_t>();
+    if (cones > in.size()) throw std::runtime_error("checkpoint: more cones than bytes");
+    a.cones.resize(cones);
+    for (Cone& k : a.cones) {
+      k.tip = c.get<core::Vec3>();
+      k.heading = c.get<core::Vec3>();
+      k.rate = c.get<double>();
+      k.length = c.get<double>();
+      k.parent = c.get<std::uint32_t>();
+      k.born = c.get<std::uint32_t>();
+      k.ended = c.get<std::uint32_t>();
+      k.tree = c.get<std::uint16_t>();
+      k.type = c.get<std::uint8_t>();
+      k.order = c.get<std::uint8_t>();
+      k.status = c.get<ConeStatus>();
+    }
+    const auto trees = c.get<std::uint64_t>();
+    if (trees > in.size()) throw std::runtime_error("checkpoint: more trees than bytes");
+    a.trees.resize(trees);
+    for (Tree& t : a.trees) {
+      t.type = c.get<std::uint8_t>();
+      t.born = c.get<std::uint32_t>();
+      t.growing = c.get<int>();
+      c.get_array(t.by_order);
+    }
+    c.get_array(a.growing);
+    for (const std::uint32_t k : a.cone_of)
+      if (k >= a.cones.size()) throw std::runtime_error("checkpoint: a point of a cone that does not exist");
+    for (const std::uint32_t k : a.growing)
+      if (k >= a.cones.size()) throw std::runtime_error("checkpoint: a growing cone that does not exist");
+    for (const Cone& k : a.cones)
+      if (k.tree >= a.trees.size() || (k.parent != kNoCone && k.parent >= a.cones.size()))
+        throw std::runtime_error("checkpoint: a cone of a tree or parent that does not exist");
+  }
+  if (!c.done()) throw std::runtime_error("checkpoint: bytes after the arbours");
+  return out;
+}
+
+}  // namespace axg::morphology

@@ -65,11 +65,13 @@ class TempDir {
   fs::path path_;
 };
 
-// SHA-256 of every output file except the ones allowed to vary (timings, manifest).
+// SHA-256 of every output file, in the folder and its subfolders (morphologies/, vtk/,
+// network/), by its path in the folder, except the ones allowed to vary (timings, manifest).
 inline std::map<std::string, std::string> output_hashes(const fs::path& dir) {
   std::map<std::string, std::string> h;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string name = e.path().filename().string();
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string name = fs::relative(e.path(), dir).generic_string();
     if (name == "timings.csv" || name == "manifest.json") continue;
     h[name] = sha256_file(e.path());
   }

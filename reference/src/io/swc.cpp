@@ -34,7 +34,7 @@ std::string arbour_swc_text(const RunResult& r, std::size_t i) {
   const core::Vec3 soma = canonical(r.soma[i]);
   fmt::format_to(out, "1 1 {} {} {} {} -1\n", soma.x * um, soma.y * um, soma.z * um,
                  canonical(r.scene.neurons.soma_radius) * um);
-  const std::vector<morphology::Sample> s = morphology::samples(r.arbours[i]);
+  const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(r.arbours[i]);
   for (std::size_t j = 0; j < s.size(); ++j) {
     const core::Vec3 p = canonical(s[j].pos);
     fmt::format_to(out, "{} {} {} {} {} {} {}\n", j + 2, s[j].type, p.x * um, p.y * um, p.z * um,

@@ -138,7 +138,7 @@ void write_arbour_paths(const RunResult& r, AtomicFile& f) {
   f.write("id,cone,parent,type,order,step,x,y,z\n");
   write_rows(f, r.arbours.size(), [&](std::size_t i, fmt::memory_buffer& b) {
     const morphology::Arbour& a = r.arbours[i];
-    for (const morphology::Sample& s : morphology::samples(a)) {
+    for (const morphology::ArbourSample& s : morphology::arbour_samples(a)) {
       const core::Vec3 p = canonical(s.pos);
       const std::uint32_t parent = a.cones[s.cone].parent;
       fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{},{},{},{},{}\n"), i, s.cone,

@@ -7,12 +7,12 @@
 
 namespace axg::morphology {
 
-std::vector<Sample> samples(const Arbour& a) {
+std::vector<ArbourSample> arbour_samples(const Arbour& a) {
   const std::size_t cones = a.cones.size();
   std::vector<std::uint32_t> count(cones, 0), first(cones + 1, 0);
   for (const std::uint32_t c : a.cone_of) ++count[c];
   for (std::size_t c = 0; c < cones; ++c) first[c + 1] = first[c] + count[c];
-  std::vector<Sample> out(a.point.size());
+  std::vector<ArbourSample> out(a.point.size());
   std::vector<std::uint32_t> fill(cones, 0);
   // The sample id of cone c's last point, or, for a cone without points, its parent's (a
   // branched cone always grew: it branches at the end of a step it grew in).
@@ -24,7 +24,7 @@ std::vector<Sample> samples(const Arbour& a) {
     const std::uint32_t c = a.cone_of[i];
     const Cone& cone = a.cones[c];
     const std::uint32_t k = fill[c]++;
-    Sample& s = out[first[c] + k];
+    ArbourSample& s = out[first[c] + k];
     s.pos = a.point[i];
     s.cone = c;
     s.type = cone.type;

@@ -3,7 +3,7 @@
 // its growth cones, numbered by the tree (never by the thread schedule), its trees (each
 // stem and all its descendants), and every point growth made, in the order it made them,
 // with the cone that made it. A point is 28 bytes: the cone's points, in order, are its
-// path, so parents and steps follow from the cones (samples()).
+// path, so parents and steps follow from the cones (arbour_samples()).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,7 +59,7 @@ struct Arbour {
 // The arbour as SWC samples (ids from 2; the soma is sample 1): the cones in index order,
 // each cone's points in order. A stem's first point's parent is the soma; a daughter's
 // first point's parent is its parent cone's last point (the branch point).
-struct Sample {
+struct ArbourSample {
   core::Vec3 pos;
   std::uint32_t parent;  // sample id (1: the soma)
   std::uint32_t cone;
@@ -67,7 +67,7 @@ struct Sample {
   std::uint8_t type;
   std::uint8_t order;
 };
-std::vector<Sample> samples(const Arbour& a);
+std::vector<ArbourSample> arbour_samples(const Arbour& a);
 
 // Summary numbers of one arbour (neurons.csv for arbour scenes).
 struct ArbourSummary {

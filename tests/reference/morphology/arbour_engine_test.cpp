@@ -1,0 +1,234 @@
+// The arbour engine (issue 41; docs/methods.md §2.12): identical bytes for any thread
+// count, SWC trees that are trees, checkpoints that carry the arbours, the scene's checks.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <fstream>
+#include <set>
+
+#include "axonguide/engine/arbour_engine.hpp"
+#include "axonguide/engine/checkpoint.hpp"
+#include "axonguide/io/swc.hpp"
+#include "axonguide/morphology/morphometry.hpp"
+#include "support.hpp"
+
+namespace axg {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scene culture() { return load_scene_file(test::source_dir() + "/scenes/culture.json").scene; }
+
+// Small random arbour scenes: a disc culture or a ball/box, both soma-contact rules, every
+// parameter of both neurite types.
+rc::Gen<Scene> gen_arbour_scene() {
+  return rc::gen::exec([] {
+    Scene s;
+    s.seed = *rc::gen::arbitrary<std::uint64_t>();
+    s.steps = *rc::gen::inRange<std::uint32_t>(1, 40);
+    s.dt = *rc::gen::inRange(1, 20) / 10.0;
+    s.neurons.count = *rc::gen::inRange<std::uint64_t>(1, 60);
+    s.neurons.shape = *rc::gen::element(RegionShape::kDisc, RegionShape::kBall, RegionShape::kBox);
+    s.neurons.radius = 20.0;
+    s.neurons.soma_radius = 0.5;
+    s.neurons.overlap_reject = false;
+    s.guidance.model = GuidanceModel::kDirect;
+    s.analysis.bfs_sources.clear();
+    ArbourKeys a;
+    a.slab = s.neurons.shape == RegionShape::kDisc ? *rc::gen::inRange(0, 5) / 2.0 : 0.0;
+    a.stop_at_soma = *rc::gen::arbitrary<bool>();
+    for (NeuriteKeys* n : {&a.axon, &a.dendrites}) {
+      n->b = *rc::gen::inRange(0, 60) / 10.0;
+      n->e = *rc::gen::inRange(0, 10) / 10.0;
+      n->s = *rc::gen::inRange(-5, 10) / 10.0;
+      if (*rc::gen::arbitrary<bool>()) n->tau = *rc::gen::inRange(1, 100) / 2.0;
+      n->v0 = *rc::gen::inRange(0, 30) / 10.0;
+      n->f = *rc::gen::inRange(0, 10) / 10.0;
+      n->rate_cv = *rc::gen::inRange(0, 10) / 10.0;
+      n->angle = *rc::gen::inRange(1, 31) / 10.0;
+      n->angle_sd = *rc::gen::inRange(0, 10) / 10.0;
+      if (*rc::gen::arbitrary<bool>()) n->persistence_length = *rc::gen::inRange(1, 100);
+      n->stems = {0.25, 0.5, 0.25};
+      n->stem_rate = *rc::gen::inRange(0, 5) / 10.0;
+    }
+    s.arbours = a;
+    s.output.swc = true;
+    s.output.paths = true;
+    return s;
+  });
+}
+
+RC_GTEST_PROP(arbours, ThreadCountNeverChangesAByte, ()) {
+  const Scene scene = *gen_arbour_scene();
+  const auto one = test::run_hashes(scene, 1);
+  RC_ASSERT(one.count("morphologies/0.swc") == 1u);
+  RC_ASSERT(one.count("paths.csv") == 1u);
+  RC_ASSERT(test::run_hashes(scene, 2) == one);
+  RC_ASSERT(test::run_hashes(scene, 7) == one);
+}
+
+TEST(arbours, TheCultureOnOneTwoAndSevenThreads) {
+  Scene scene = culture();
+  scene.output.paths = true;
+  const auto one = test::run_hashes(scene, 1);
+  EXPECT_EQ(test::run_hashes(scene, 2), one);
+  EXPECT_EQ(test::run_hashes(scene, 7), one);
+  Scene other = scene;
+  other.seed = 2;
+  EXPECT_NE(test::run_hashes(other, 2).at("morphologies/0.swc"), one.at("morphologies/0.swc"));
+}
+
+// Every SWC is a tree: ids 1..n in order, every parent an earlier sample, the soma the only
+// root; a stem starts at the soma; types are 2 and 3; morphometry reads it back.
+RC_GTEST_PROP(arbours, EverySwcIsATreeWithParentsFirst, ()) {
+  const Scene scene = *gen_arbour_scene();
+  RunOptions o;
+  const RunResult r = run_scene(scene, o);
+  for (std::size_t i = 0; i < r.arbours.size(); ++i) {
+    const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(r.arbours[i]);
+    RC_ASSERT(s.size() == r.arbours[i].point.size());
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      RC_ASSERT(s[j].parent >= 1u && s[j].parent < j + 2);
+      RC_ASSERT(s[j].type == morphology::kAxonType || s[j].type == morphology::kDendriteType);
+      const morphology::Cone& c = r.arbours[i].cones[s[j].cone];
+      if (c.parent == morphology::kNoCone && (j == 0 || s[j - 1].cone != s[j].cone)) RC_ASSERT(s[j].parent == 1u);
+      if (s[j].parent > 1) RC_ASSERT(s[s[j].parent - 2].type == s[j].type);  // a neurite never changes type
+      RC_ASSERT(s[j].step <= scene.steps);
+    }
+    // The cones are numbered by the tree: a daughter after its parent, born when it branched.
+    for (std::size_t c = 0; c < r.arbours[i].cones.size(); ++c) {
+      const morphology::Cone& k = r.arbours[i].cones[c];
+      if (k.parent == morphology::kNoCone) continue;
+      RC_ASSERT(k.parent < c);
+      RC_ASSERT(r.arbours[i].cones[k.parent].status == morphology::ConeStatus::kBranched);
+      RC_ASSERT(r.arbours[i].cones[k.parent].ended == k.born);
+      RC_ASSERT(k.order == std::min(255, r.arbours[i].cones[k.parent].order + 1));
+    }
+    const morphology::Morphology m = morphology::parse_swc(swc_text(r, i), "neuron.swc");
+    RC_ASSERT(m.samples.size() == s.size() + 1);
+  }
+}
+
+// A cone's length is its points' path length; the axon length in neurons.csv is the sum.
+TEST(arbours, NeuronLengthIsTheAxonsPathLength) {
+  Scene scene = culture();
+  scene.neurons.count = 40;
+  RunOptions o;
+  const RunResult r = run_scene(scene, o);
+  for (std::size_t i = 0; i < r.arbours.size(); ++i) {
+    const morphology::Arbour& a = r.arbours[i];
+    const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(a);
+    double path = 0.0;
+    for (std::size_t j = 0; j < s.size(); ++j)
+      if (s[j].type == morphology::kAxonType && s[j].parent > 1 &&
+          !(a.cones[s[j].cone].parent == morphology::kNoCone && s[s[j].parent - 2].cone != s[j].cone))
+        path += core::norm(s[j].pos - s[s[j].parent - 2].pos);
+    EXPECT_NEAR(r.neurons.length[i], path, 1e-9 * (1.0 + path)) << "neuron " << i;
+  }
+}
+
+// A checkpoint after step 37 resumes to the uninterrupted bytes.
+TEST(arbours, ACheckpointCarriesTheArbours) {
+  Scene scene = culture();
+  scene.neurons.count = 60;
+  scene.output.paths = true;
+  scene.output.checkpoint_every = 37;
+  const auto want = test::run_hashes(scene, 2);
+  test::TempDir dir;
+  RunOptions first;
+  first.on_checkpoint = [&](const RunResult& progress, std::uint32_t step, const EngineState& e) {
+    if (step == 37) write_checkpoint(dir.path(), progress, step, e);
+  };
+  first.stop_requested = [&] { return fs::exists(dir.path() / kCheckpointName); };
+  EXPECT_THROW(run_scene(scene, first), Interrupted);
+  RunCheckpoint c = read_checkpoint(dir.path() / kCheckpointName);
+  ASSERT_EQ(c.step, 37u);
+  EXPECT_FALSE(c.engine.arbour.empty());
+  RunOptions resumed;
+  resumed.resume = &c;
+  const RunResult r = run_scene(scene, resumed);
+  test::TempDir out;
+  write_outputs(r, out.path(), "test", 2, {});
+  EXPECT_EQ(test::output_hashes(out.path()), want);
+}
+
+// Bad input: exit 2 naming the key, the value and the allowed range.
+TEST(arbours, BadParametersAreRefusedWithTheirKeyAndRange) {
+  struct Case {
+    const char* text;
+    const char* key;
+    const char* allowed;
+  };
+  const Case cases[] = {
+      {R"({"arbours": {"axon": {"B": -1}}})", "arbours.axon.B", ">= 0"},
+      {R"({"arbours": {"axon": {"v0": -0.5}}})", "arbours.axon.v0", ">= 0"},
+      {R"({"arbours": {"dendrites": {"stem_rate": -2}}})", "arbours.dendrites.stem_rate", ">= 0"},
+      {R"({"arbours": {"axon": {"E": -0.1}}})", "arbours.axon.E", ">= 0"},
+      {R"({"arbours": {"dendrites": {"tau": 0}}})", "arbours.dendrites.tau", "> 0"},
+      {R"({"arbours": {"axon": {"tau": -3}}})", "arbours.axon.tau", "> 0"},
+      {R"({"arbours": {"dendrites": {"stems": [0.5, 0.6]}}})", "arbours.dendrites.stems", "sum to 1"},
+      {R"({"arbours": {"dendrites": {"stems": [1.5, -0.5]}}})", "arbours.dendrites.stems[1]", "non-negative"},
+      {R"({"arbours": {"dendrites": {"stems": []}}})", "arbours.dendrites.stems", "distribution"},
+      {R"({"arbours": {"dendrites": {"stems": "six"}}})", "arbours.dendrites.stems", "distribution"},
+      {R"({"arbours": {"axon": {"angle": 0}}})", "arbours.axon.angle", "(0, 3.14"},
+      {R"({"arbours": {"axon": {"angle": 3.2}}})", "arbours.axon.angle", "(0, 3.14"},
+      {R"({"arbours": {"axon": {"taper": 1.5}}})", "arbours.axon.taper", "(0, 1]"},
+      {R"({"arbours": {"axon": {"branching": 1}}})", "arbours.axon.branching", "allowed"},
+  };
+  for (const Case& c : cases) {
+    try {
+      parse_scene(c.text, "scene.json");
+      ADD_FAILURE() << c.text << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.key(), c.key) << c.text;
+      EXPECT_NE(std::string(e.what()).find(c.allowed), std::string::npos) << c.text << ": " << e.what();
+    }
+  }
+  // Through the command: exit 2, and the message names the key.
+  test::TempDir dir;
+  const fs::path scene = dir.path() / "bad.json";
+  {
+    std::ofstream f(scene);
+    f << R"({"arbours": {"axon": {"E": -1}}})";
+  }
+  const auto [code, out] = test::run_command(fmt::format("run {} --out {}", scene.string(), (dir.path() / "o").string()));
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("arbours.axon.E"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.path() / "o"));
+}
+
+TEST(arbours, WhatIsNotBuiltIsRefusedBeforeAnythingRuns) {
+  EXPECT_THROW(parse_scene(R"({"guidance": {"model": "snr"}, "arbours": {}})", "s.json"), InputError);
+  EXPECT_THROW(parse_scene(R"({"arbours": {}, "output": {"vtk": true}})", "s.json"), InputError);
+  EXPECT_THROW(parse_scene(R"({"arbours": {"slab": 2}})", "s.json"), InputError);  // a layer needs a disc
+  test::TempDir dir;
+  const auto [code, out] = test::run_command(fmt::format("run {}/scenes/culture.json --backend emulated --out {}",
+                                                         test::source_dir(), (dir.path() / "o").string()));
+  EXPECT_EQ(code, 3) << out;
+  EXPECT_NE(out.find("arbour"), std::string::npos) << out;
+}
+
+// Scenes without arbours keep their canonical form: the section is written only when given.
+TEST(arbours, ScenesWithoutArboursKeepTheirCanonicalForm) {
+  EXPECT_FALSE(scene_to_json(Scene{}).contains("arbours"));
+  const Scene c = culture();
+  ASSERT_TRUE(c.arbours.has_value());
+  const nlohmann::json j = scene_to_json(c);
+  EXPECT_EQ(scene_to_json(parse_scene(j.dump(), "canonical").scene), j);
+}
+
+// The memory estimate counts the arbours: a scene that cannot fit exits 3 before it runs.
+TEST(arbours, TheMemoryEstimateGrowsWithTheArbours) {
+  Scene small = culture();
+  Scene big = small;
+  big.arbours->axon.b = 12.0;
+  big.arbours->axon.e = 0.0;
+  EXPECT_GT(expected_arbour_points(big), 2.0 * expected_arbour_points(small));
+  EXPECT_GT(estimate_run_bytes(big), estimate_run_bytes(small));
+  big.neurons.count = 1u << 30;
+  big.neurons.radius = 1e6;
+  EXPECT_THROW(run_scene(big, RunOptions{}), RunError);
+}
+
+}  // namespace
+}  // namespace axg

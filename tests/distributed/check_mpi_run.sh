@@ -12,7 +12,8 @@
 #    one-process bytes; so do particle and grid runs whose rank was killed;
 #  - what cannot proceed exits 2 or 3 with one message, from rank 0, and no rank hangs: too
 #    many ranks for the scene's halo (a step's reach, the particles' sensing radius, the
-#    grid's slabs), --backend emulated (the accelerator), placement too dense (the folder is
+#    grid's slabs), --backend emulated (the accelerator), an arbour scene (designed in
+#    docs/scaling.md, not built), placement too dense (the folder is
 #    left as it was), a folder that holds another run, a checkpoint of another scene, and
 #    a launcher that is not this build's MPI's, and an MPI that fails inside MPI_Init (exit
 #    3, naming the library).
@@ -198,6 +199,8 @@ before=$(files swap-glong)
 refuse 2 'written for another scene' 2 --resume swap-glong
 [ "$(files swap-glong)" = "$before" ] || fail "the refused resume changed its folder"
 refuse 3 'one block per GPU is designed' 2 direct.json --backend emulated --out emulated
+refuse 3 'arbour scenes over ranks are designed' 2 "$src/scenes/culture.json" --out arbours
+[ ! -e arbours ] || fail "a refused arbour run made its folder"
 echo '{"neurons": {"count": 2300, "region": {"radius": 5}, "soma_radius": 0.3, "max_attempts": 40},
        "guidance": {"model": "direct"}}' > dense.json
 refuse 3 'still overlaps an earlier soma' 3 dense.json --out dense

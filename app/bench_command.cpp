@@ -41,6 +41,7 @@ int cmd_bench(const BenchArgs& args) {
   if (w == "particles" || w == "all") add(bench::particles(o));
   if (w == "grid" || w == "all") add(bench::grid(o));
   if (w == "bfs" || w == "all") add(bench::bfs(o));
+  if (w == "arbours" || w == "all") add(bench::arbours(o));
   if (args.json) {
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows) {

@@ -47,6 +47,9 @@ std::vector<Row> growth(const Options& o);
 std::vector<Row> bfs(const Options& o);
 std::vector<Row> particles(const Options& o);
 std::vector<Row> grid(const Options& o);
+// Arbours: 10^4 neurons of the culture with arbours twice the data's 5-day size (10^3 quick).
+std::vector<Row> arbours(const Options& o);
+Scene arbour_benchmark_scene(std::uint64_t neurons);
 
 // Median wall seconds of `repeats` calls of fn (at least one; more while under budget).
 double time_median(const std::function<void()>& fn, int repeats = 5, double budget_seconds = 2.0);

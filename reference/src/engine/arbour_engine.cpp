@@ -71,6 +71,7 @@ void new_stem(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, s
   a.cones.push_back(c);
   a.point.push_back(c.tip);
   a.cone_of.push_back(index);
+  a.step_of.push_back(born);
   a.growing.push_back(index);
 }
 
@@ -100,27 +101,43 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
   const ArbourParams& P = *ctx.params;
   const double dt = ctx.dt;
   const double t0 = static_cast<double>(step - 1) * dt;
-  // n and C of every tree at the step's start (the rule holds them over the step).
-  thread_local std::vector<int> n;
-  thread_local std::vector<double> mean_weight;
+  // What a tree's cones share over the step, from n and C at its start (the rule holds them
+  // over the step): the elongation v0 n^-F dt, the branching exponent's tree part, C, and
+  // (S = 0: no order dependence) the branching probability itself.
+  struct TreeStep {
+    double grow, branching, mean_weight, probability;
+    int n;
+  };
+  thread_local std::vector<TreeStep> trees;
   thread_local std::vector<std::uint32_t> next, daughters;
-  n.resize(a.trees.size());
-  mean_weight.resize(a.trees.size());
+  trees.resize(a.trees.size());
   for (std::size_t t = 0; t < a.trees.size(); ++t) {
     const Tree& tree = a.trees[t];
-    n[t] = tree.growing;
-    mean_weight[t] = tree.growing > 0 ? core::mean_order_weight(neurite(P, tree.type).branching.s, tree.by_order.data(),
-                                                                static_cast<int>(tree.by_order.size()), tree.growing)
-                                      : 1.0;
+    TreeStep& ts = trees[t];
+    ts.n = tree.growing;
+    if (ts.n == 0) continue;
+    const NeuriteParams& p = neurite(P, tree.type);
+    ts.grow = core::elongation(p.elongation, ts.n, dt);
+    ts.branching = core::tree_branching(p.branching, t0 - static_cast<double>(tree.born) * dt, dt, ts.n);
+    ts.mean_weight = p.branching.s == 0.0 ? 1.0
+                                           : core::mean_order_weight(p.branching.s, tree.by_order.data(),
+                                                                     static_cast<int>(tree.by_order.size()), ts.n);
+    ts.probability = core::cone_branch_probability(ts.branching, p.branching.s, 0, ts.mean_weight);
   }
+  auto add_point = [&](std::uint32_t idx, core::Vec3 at) {
+    a.point.push_back(at);
+    a.cone_of.push_back(idx);
+    a.step_of.push_back(step);
+    a.cones[idx].unsampled = 0.0;
+  };
   next.clear();
   daughters.clear();
   for (const std::uint32_t idx : a.growing) {
     const std::uint64_t key = core::cone_key(neuron, idx);
     const Cone c0 = a.cones[idx];
     const NeuriteParams& p = neurite(P, c0.type);
-    const int trees_n = n[c0.tree];
-    const double l = core::elongation(p.elongation, trees_n, dt) * c0.rate;
+    const TreeStep& ts = trees[c0.tree];
+    const double l = ts.grow * c0.rate;
     // Move, then contact and bounds (core/growth.hpp's step; contact only when cones stop at somas).
     core::AxonStep st;
     if (P.stop_at_soma) {
@@ -133,33 +150,37 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
     Cone& c = a.cones[idx];
     c.tip = st.tip;
     c.length += st.advanced;
+    c.unsampled += st.advanced;
     c.ended = step;
-    a.point.push_back(st.tip);
-    a.cone_of.push_back(idx);
     Tree& tree = a.trees[c.tree];
     if (st.status != core::AxonStatus::kGrowing) {
       c.status = st.status == core::AxonStatus::kConnected ? ConeStatus::kSoma : ConeStatus::kExited;
       --tree.growing;
       --tree.by_order[c.order];
+      add_point(idx, c.tip);
       continue;
     }
     c.heading = core::cone_wander(c.heading, l, p.geometry, ctx.seed, key, step);
-    const double q = core::branch_probability(p.branching, t0 - static_cast<double>(tree.born) * dt, dt, trees_n,
-                                              c.order, mean_weight[c.tree]);
+    const double q = p.branching.s == 0.0 ? ts.probability
+                                          : core::cone_branch_probability(ts.branching, p.branching.s, c.order,
+                                                                          ts.mean_weight);
     if (!(q > 0.0) || !core::branches(q, ctx.seed, key, step)) {
+      if (c.unsampled >= P.sample_length || step == ctx.last_step) add_point(idx, c.tip);
       next.push_back(idx);
       continue;
     }
     // Two daughters take the next indices; the parent's segment ends at the branch point.
+    add_point(idx, c.tip);
+    Cone& b = a.cones[idx];
     core::Vec3 h[2];
-    core::daughter_headings(c.heading, p.geometry, ctx.seed, key, step, &h[0], &h[1]);
-    c.status = ConeStatus::kBranched;
-    const std::uint8_t order = c.order == 255 ? 255 : static_cast<std::uint8_t>(c.order + 1);
-    --tree.by_order[c.order];
+    core::daughter_headings(b.heading, p.geometry, ctx.seed, key, step, &h[0], &h[1]);
+    b.status = ConeStatus::kBranched;
+    const std::uint8_t order = b.order == 255 ? 255 : static_cast<std::uint8_t>(b.order + 1);
+    --tree.by_order[b.order];
     if (tree.by_order.size() <= order) tree.by_order.resize(order + 1u, 0);
     tree.by_order[order] += 2;
     ++tree.growing;
-    const Cone parent = c;  // `c` dangles once the daughters are pushed
+    const Cone parent = b;  // `b` dangles once the daughters are pushed
     for (int d = 0; d < 2; ++d) {
       const std::uint32_t index = next_index(neuron, a);
       core::Rng rng(ctx.seed, core::Stream::kConeBirth, core::cone_key(neuron, index), 0);
@@ -317,7 +338,17 @@ class ArbourEngine final : public Engine {
 
   void somas(std::vector<core::Vec3>& out) override { out = soma_; }
 
-  void arbours(std::vector<Arbour>& out) override { out = std::move(arbours_); }
+  // Moved out at their size (growth doubles the point arrays' capacity as it goes).
+  void arbours(std::vector<Arbour>& out) override {
+    tbb::parallel_for(std::size_t{0}, arbours_.size(), [&](std::size_t i) {
+      Arbour& a = arbours_[i];
+      a.point.shrink_to_fit();
+      a.cone_of.shrink_to_fit();
+      a.step_of.shrink_to_fit();
+      std::vector<std::uint32_t>().swap(a.growing);
+    });
+    out = std::move(arbours_);
+  }
 
   std::size_t bytes() const override {
     std::size_t b = grid_.bytes() + soma_.capacity() * sizeof(core::Vec3) + arbours_.capacity() * sizeof(Arbour);
@@ -327,7 +358,7 @@ class ArbourEngine final : public Engine {
 
  private:
   ArbourContext context() const {
-    return {&params_, &growth_, &view_, scene_.seed, scene_.dt, scene_.neurons.soma_radius};
+    return {&params_, &growth_, &view_, scene_.seed, scene_.dt, scene_.neurons.soma_radius, scene_.steps};
   }
 
   const Scene& scene_;

@@ -121,6 +121,7 @@ void read_arbour_keys(const json& j, std::optional<ArbourKeys>& out) {
   }
   ArbourKeys a;
   ObjectReader r(j, "arbours");
+  r.number("sample_length", a.sample_length, non_negative());
   r.number("slab", a.slab, non_negative());
   r.choice("soma_contact", a.stop_at_soma, {{"stop", true}, {"pass", false}});
   if (const json* x = r.take("axon")) read_neurite(*x, "arbours.axon", a.axon);
@@ -130,7 +131,8 @@ void read_arbour_keys(const json& j, std::optional<ArbourKeys>& out) {
 }
 
 json write_arbour_keys(const ArbourKeys& a) {
-  return {{"slab", a.slab},
+  return {{"sample_length", a.sample_length},
+          {"slab", a.slab},
           {"soma_contact", a.stop_at_soma ? "stop" : "pass"},
           {"axon", write_neurite(a.axon)},
           {"dendrites", write_neurite(a.dendrites)}};
@@ -160,6 +162,7 @@ ArbourParams arbour_params(const Scene& s) {
   if (!s.arbours) return p;
   p.planar = s.neurons.shape == RegionShape::kDisc;
   p.slab = s.arbours->slab;
+  p.sample_length = s.arbours->sample_length;
   p.stop_at_soma = s.arbours->stop_at_soma;
   p.axon = neurite_params(s.arbours->axon, s, p.planar);
   p.dendrites = neurite_params(s.arbours->dendrites, s, p.planar);

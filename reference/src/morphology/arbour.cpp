@@ -30,7 +30,7 @@ std::vector<ArbourSample> arbour_samples(const Arbour& a) {
     s.type = cone.type;
     s.order = cone.order;
     const bool stem = cone.parent == kNoCone;
-    s.step = stem ? cone.born + k : cone.born + 1 + k;
+    s.step = a.step_of[i];
     s.parent = k > 0 ? 2u + first[c] + k - 1u : stem ? 1u : last_sample(cone.parent);
   }
   return out;
@@ -107,12 +107,14 @@ void append_arbours(const std::vector<Arbour>& arbours, std::vector<std::uint8_t
   for (const Arbour& a : arbours) {
     put_array(out, a.point);
     put_array(out, a.cone_of);
+    put_array(out, a.step_of);
     put<std::uint64_t>(out, a.cones.size());
     for (const Cone& c : a.cones) {  // field by field: no padding bytes
       put(out, c.tip);
       put(out, c.heading);
       put(out, c.rate);
       put(out, c.length);
+      put(out, c.unsampled);
       put(out, c.parent);
       put(out, c.born);
       put(out, c.ended);
@@ -140,6 +142,9 @@ std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
   for (Arbour& a : out) {
     c.get_array(a.point);
     c.get_array(a.cone_of);
+    c.get_array(a.step_of);
+    if (a.cone_of.size() != a.point.size() || a.step_of.size() != a.point.size())
+      throw std::runtime_error("checkpoint: an arbour's point arrays differ in length");
     const auto cones = c.get<std::uint64_t>();
     if (cones > in.size()) throw std::runtime_error("checkpoint: more cones than bytes");
     a.cones.resize(cones);
@@ -148,6 +153,7 @@ std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
       k.heading = c.get<core::Vec3>();
       k.rate = c.get<double>();
       k.length = c.get<double>();
+      k.unsampled = c.get<double>();
       k.parent = c.get<std::uint32_t>();
       k.born = c.get<std::uint32_t>();
       k.ended = c.get<std::uint32_t>();

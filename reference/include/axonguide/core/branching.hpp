@@ -65,12 +65,23 @@ AXG_HDI double mean_order_weight(double s, const int* counts, int orders, int n)
   return sum / static_cast<double>(n);
 }
 
+// The part of the branching exponent shared by a tree's cones over [t0, t0 + dt]: the
+// integral of D times n^-E.
+AXG_HDI double tree_branching(const BranchingParams& p, double t0, double dt, int n) {
+  return baseline_integral(p, t0, t0 + dt) * competition(p.e, n);
+}
+
+// The probability that a cone of order `order` branches, from its tree's tree_branching and
+// mean order weight: 1 - exp(-x), x = tree_branching 2^(-S order) / C.
+AXG_HDI double cone_branch_probability(double tree, double s, int order, double mean_weight) {
+  return 1.0 - pm::exp(-(tree * order_weight(s, order) / mean_weight));
+}
+
 // The probability that a cone of order `order` branches in [t0, t0 + dt], in a tree of n
 // cones whose order weights average `mean_weight`.
 AXG_HDI double branch_probability(const BranchingParams& p, double t0, double dt, int n, int order,
                                   double mean_weight) {
-  const double x = baseline_integral(p, t0, t0 + dt) * competition(p.e, n) * order_weight(p.s, order) / mean_weight;
-  return 1.0 - pm::exp(-x);
+  return cone_branch_probability(tree_branching(p, t0, dt, n), p.s, order, mean_weight);
 }
 
 // The length a cone of a tree of n cones grows in dt.

@@ -25,6 +25,7 @@ struct ArbourContext {
   std::uint64_t seed;
   double dt;
   double soma_radius;
+  std::uint32_t last_step;  // the scene's steps: every cone makes a point at its end
 };
 void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, morphology::Arbour& a);
 void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, std::uint32_t step,
@@ -36,7 +37,7 @@ double expected_arbour_points(const Scene& scene);
 
 // Bytes the arbour engine needs before growth (per neuron), and per stored point.
 std::size_t arbour_bytes_per_neuron();
-inline constexpr std::size_t kArbourBytesPerPoint = sizeof(core::Vec3) + 4;
+inline constexpr std::size_t kArbourBytesPerPoint = sizeof(core::Vec3) + 8;
 
 std::unique_ptr<Engine> make_arbour_engine(const Scene& scene, Placement&& placement);
 

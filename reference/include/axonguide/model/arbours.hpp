@@ -43,6 +43,7 @@ struct NeuriteKeys {
 };
 
 struct ArbourKeys {
+  double sample_length = 0.0;    // length units: a cone makes a point each time its path grows this much (0: every step)
   double slab = 0.0;             // a culture's growth layer: each stem's height uniform in [0, slab] above the plane
   bool stop_at_soma = true;      // a cone that touches another neuron's soma stops ("stop") or passes ("pass")
   NeuriteKeys axon, dendrites;
@@ -69,6 +70,7 @@ struct ArbourParams {
   NeuriteParams axon, dendrites;
   bool planar = false;
   double slab = 0.0;
+  double sample_length = 0.0;
   bool stop_at_soma = true;
 };
 

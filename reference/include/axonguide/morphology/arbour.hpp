@@ -2,8 +2,10 @@
 // One neuron's arbour as the arbour engine grows it (SPEC §3.8; docs/methods.md §2.12):
 // its growth cones, numbered by the tree (never by the thread schedule), its trees (each
 // stem and all its descendants), and every point growth made, in the order it made them,
-// with the cone that made it. A point is 28 bytes: the cone's points, in order, are its
-// path, so parents and steps follow from the cones (arbour_samples()).
+// with the cone that made it and the step that made it: 32 bytes a point. A cone's points,
+// in order, are its path, so parents follow from the cones (arbour_samples()). A cone makes
+// a point when its path since its last point reaches the sample length, and when it
+// branches, stops or the run ends (arbours.sample_length; 0: every step).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -27,6 +29,7 @@ struct Cone {
   core::Vec3 heading{0, 0, 0};  // unit
   double rate = 1.0;            // its elongation-rate factor
   double length = 0.0;          // of its segment
+  double unsampled = 0.0;       // its path since its last point
   std::uint32_t parent = kNoCone;
   std::uint32_t born = 0;       // the step at whose end it started (0: at the neuron's birth)
   std::uint32_t ended = 0;      // the last step it grew (born until it grows)
@@ -46,12 +49,14 @@ struct Tree {
 struct Arbour {
   std::vector<core::Vec3> point;       // every point, in the order growth made them
   std::vector<std::uint32_t> cone_of;  // the cone that made each point
+  std::vector<std::uint32_t> step_of;  // the step that made each point (a stem's start: its birth step)
   std::vector<Cone> cones;             // by index
   std::vector<Tree> trees;             // by index
   std::vector<std::uint32_t> growing;  // the growing cones, in index order
 
   std::size_t bytes() const {
-    return point.capacity() * sizeof(core::Vec3) + cone_of.capacity() * 4 + cones.capacity() * sizeof(Cone) +
+    return point.capacity() * sizeof(core::Vec3) + cone_of.capacity() * 4 + step_of.capacity() * 4 +
+           cones.capacity() * sizeof(Cone) +
            trees.capacity() * sizeof(Tree) + growing.capacity() * 4;
   }
 };

@@ -95,6 +95,7 @@ struct FitArgs {
   int coarse = 7, refine = 2;
   int threads = 0;
   std::string backend = "reference";
+  bool profile = false;  // morphometric fits: profile intervals
 };
 int cmd_fit(const FitArgs& args);
 int cmd_plot(const std::string& dir);

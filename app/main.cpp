@@ -147,6 +147,7 @@ int dispatch(int argc, char** argv) {
   fit_cmd->add_option("--target-se", fit.target_se, "Model SE / data SE to reach at every point (0: off)")
       ->capture_default_str()->check(finite)->check(CLI::Range(0.0, 10.0));
   fit_cmd->add_flag("!--no-mirror", fit.mirror, "Do not also run every seed with the gradient mirrored");
+  fit_cmd->add_flag("--profile", fit.profile, "Morphometric data: profile intervals (slow) instead of the curvature's");
   fit_cmd->add_option("--param", fit.params,
                       "NAME or NAME=LO:HI, repeatable: a parameter to fit (gain, kd, scale, or a signalling parameter) "
                       "and its coarse range");

@@ -23,6 +23,7 @@
 #endif
 #include "axonguide/support/error.hpp"
 #include "axonguide/study/fit.hpp"
+#include "axonguide/study/morphometry_fit.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/io/output.hpp"
 #include "axonguide/io/run_folder.hpp"
@@ -239,12 +240,68 @@ std::pair<double, double> parse_correction(const std::string& text) {
 
 }  // namespace
 
+namespace {
+
+// `axonguide fit` on morphometric data (study/morphometry_fit.hpp): an arbour scene's
+// branching and elongation parameters against statistics by age.
+int fit_morphometry(const FitArgs& args) {
+  const std::vector<morphofit::DataRow> data = morphofit::load_data(args.data_path);
+  const Scene scene = load_scene_file(args.scene_path).scene;
+  morphofit::Options o;
+  o.seeds.clear();
+  for (int k = 1; k <= args.seeds; ++k) o.seeds.push_back(static_cast<std::uint64_t>(k));
+  o.iterations = std::max(1, 3 * args.polish);
+  o.profile = args.profile;
+  for (const std::string& p : args.params) {
+    morphofit::Parameter q;
+    const auto eq = p.find('=');
+    q.name = p.substr(0, eq);
+    if (eq != std::string::npos) {
+      const auto colon = p.find(':', eq);
+      try {
+        if (colon == std::string::npos) throw std::invalid_argument(p);
+        q.lo = std::stod(p.substr(eq + 1, colon - eq - 1));
+        q.hi = std::stod(p.substr(colon + 1));
+      } catch (const std::exception&) {
+        throw InputError(fmt::format("--param {}: give NAME or NAME=LO:HI", p));
+      }
+      if (!(q.lo > 0) || !(q.hi > q.lo)) throw InputError(fmt::format("--param {}: need 0 < LO < HI", p));
+    }
+    (void)morphofit::get_parameter(scene, q.name);  // names a fittable parameter
+    o.parameters.push_back(q);
+  }
+  o.on_progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  const morphofit::Result r = with_threads(resolve_threads(args.threads), [&] { return morphofit::fit(scene, data, o); });
+  prepare_output_dir(args.out_dir);
+  morphofit::write_result(r, args.out_dir);
+  fmt::print("fit       {} statistics at {} ages, {} parameters, {} seeds; {} evaluations in {:.1f} s\n", data.size(),
+             [&] {
+               std::vector<double> a;
+               for (const auto& d : data)
+                 if (std::find(a.begin(), a.end(), d.age_days) == a.end()) a.push_back(d.age_days);
+               return a.size();
+             }(),
+             r.parameters.size(), o.seeds.size(), r.evaluations, r.seconds);
+  fmt::print("chi2      {:.2f} / {} dof = {:.2f} (correlated; {:.2f} ignoring correlations)\n", r.chi2, r.dof,
+             r.chi2 / std::max(1, r.dof), r.chi2_diagonal);
+  for (const auto& p : r.parameters)
+    fmt::print("          {:<20} {:.4g} [{:.4g}, {:.4g}] ({}; start {:.4g})\n", p.name, p.best, p.lo, p.hi, p.method, p.start);
+  if (r.refused_draws > 0)
+    fmt::print("predict   {} of {} drawn parameter sets left out: their arbours would not fit in memory\n",
+               r.refused_draws, o.predict_draws);
+  fmt::print("outputs   {}/ (fit.json, residuals.csv, predictions.csv, scene.json)\n", args.out_dir);
+  return r.chi2 / std::max(1, r.dof) > args.max_chi2 ? 1 : 0;
+}
+
+}  // namespace
+
 int cmd_fit(const FitArgs& args) {
   {
     std::error_code ec;  // before the fit's runs, not after them
     if (fs::exists(args.out_dir, ec) && !fs::is_directory(args.out_dir, ec))
       throw InputError(fmt::format("--out {}: exists and is not a directory", args.out_dir));
   }
+  if (morphofit::is_morphometric_data(args.data_path)) return fit_morphometry(args);
   const fit::Data data = fit::load_data(args.data_path);
   const std::string scene_text = read_input_file(args.scene_path, "scene file");  // read once: checked, then the base
   const ParseResult parsed = parse_scene(scene_text, args.scene_path);

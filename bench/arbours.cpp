@@ -23,13 +23,13 @@ namespace axg::bench {
 Scene arbour_benchmark_scene(std::uint64_t neurons) {
   Scene s = load_scene_file((data_dir() / "scenes" / "culture.json").string()).scene;
   // The culture's density (300 neurons in a disc of radius 1000 um), and arbours twice the
-  // data's 5-day size: axon B 7.5 -> 14.7 (terminal segments 18 -> 48), v0 1.8 -> 3.3 um/h
-  // (axon 0.86 -> 2.6 mm).
+  // data's 5-day size: the fitted axon B 6.863 -> 8.6 and v0 1.373 -> 3.0 um/h (on 300
+  // neurons: terminal segments 31 -> 47, axon 0.98 -> 2.7 mm, 13.8 dendrites).
   s.neurons.count = neurons;
   s.neurons.shape = RegionShape::kDisc;
   s.neurons.radius = 1000.0 * std::sqrt(static_cast<double>(neurons) / 300.0);
-  s.arbours->axon.b = 14.7;
-  s.arbours->axon.v0 = 3.3;
+  s.arbours->axon.b = 8.6;
+  s.arbours->axon.v0 = 3.0;
   s.output.swc = true;
   return s;
 }

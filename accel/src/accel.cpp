@@ -89,12 +89,25 @@ std::uint64_t estimate_device_bytes(const Scene& scene) {
   return bytes >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
 }
 
+namespace {
+
+void refuse_arbours(const Scene& s, const char* backend) {
+  if (s.arbours)
+    throw RunError(fmt::format("--backend {}: the accelerator's arbour pipeline is not built yet; arbour scenes run on "
+                               "the reference backend (--backend reference)",
+                               backend));
+}
+
+}  // namespace
+
 std::unique_ptr<Engine> make_emulated_engine(const Scene& scene, const Placement& placement) {
+  refuse_arbours(scene, "emulated");
   return emu::make_engine(scene, placement);
 }
 
 #if AXG_HAVE_CUDA_ENGINE
 std::unique_ptr<Engine> make_cuda_engine(const Scene& scene, const Placement& placement) {
+  refuse_arbours(scene, "cuda");
   gpu::require_device();
   std::uint64_t free_bytes = 0, total_bytes = 0;
   gpu::device_memory(&free_bytes, &total_bytes);

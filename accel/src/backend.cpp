@@ -11,29 +11,13 @@ void require_backend(const std::string& backend) {
   throw InputError("--backend " + backend + ": must be reference, cuda or emulated");
 }
 
-namespace {
-
-void refuse_arbours(const Scene& s, const std::string& backend) {
-  if (s.arbours)
-    throw RunError("--backend " + backend + ": the accelerator's arbour pipeline is not built yet; arbour scenes run on "
-                   "the reference backend (--backend reference)");
-}
-
-}  // namespace
-
 EngineFactory engine_factory(const std::string& backend) {
   require_backend(backend);  // refuse before placement, not after
   if (backend == "cuda")
-    return [](const Scene& s, const Placement& p) {
-      refuse_arbours(s, "cuda");
-      return make_cuda_engine(s, p);
-    };
+    return [](const Scene& s, const Placement& p) { return make_cuda_engine(s, p); };
   // The accelerator's pipeline compiled for the CPU (slow; for checks such as resume).
   if (backend == "emulated")
-    return [](const Scene& s, const Placement& p) {
-      refuse_arbours(s, "emulated");
-      return make_emulated_engine(s, p);
-    };
+    return [](const Scene& s, const Placement& p) { return make_emulated_engine(s, p); };
   return {};
 }
 

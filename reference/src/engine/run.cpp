@@ -38,7 +38,8 @@ std::uint64_t estimate_run_bytes(const Scene& scene) {
     const double frames = scene.steps / static_cast<double>(scene.output.frames_every) + 1.0;
     bytes += frames * std::min(expected_particles(scene), static_cast<double>(kMaxFrameParticles)) * 26.0;
   }
-  // Arbours: their expected points (28 B each, doubled for vector growth) and cones.
+  // Arbours: their expected points (32 B each, doubled for vector growth, and 16 B of
+  // cone state a point as a margin) and the per-neuron records.
   if (scene.arbours) bytes += n * (expected_arbour_points(scene) * (2.0 * kArbourBytesPerPoint + 16.0) +
                                    static_cast<double>(arbour_bytes_per_neuron()));
   // The output writers' row buffers (32 chunks of 8192 formatted rows).
@@ -186,7 +187,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     if (stop) throw Interrupted(step);
   };
   const std::uint32_t first = resume ? resume->step + 1 : 1;
-  // Arbour scenes write their cones' paths from the arbours (io/arbour_outputs.hpp).
+  // Arbour scenes write their cones' paths from the arbours (io/writers.cpp, write_arbour_paths).
   const bool record_paths = scene.output.paths && !scene.arbours;
   if (!resume) {
     StepStats s0;

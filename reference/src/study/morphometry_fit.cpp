@@ -100,9 +100,15 @@ void set_parameter(Scene& s, const std::string& name, double value) {
 }
 
 bool is_morphometric_data(const std::string& path) {
-  std::ifstream in(path);
+  // The first line that is not a comment, read at most 64 KiB in (a device or a huge file
+  // without line breaks is not read whole; the fit's own reader refuses it).
+  std::ifstream in(path, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(0, in.gcount())));
+  std::istringstream lines(head);
   std::string line;
-  while (std::getline(in, line))
+  while (std::getline(lines, line))
     if (!line.empty() && line[0] != '#') return line.rfind("statistic,age_days,n,mean,sd,se", 0) == 0;
   return false;
 }

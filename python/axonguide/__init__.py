@@ -11,7 +11,7 @@
 
 from . import _core
 from ._errors import InputError, RunError, SceneError
-from ._result import (BACKENDS, CUE_KIND_NAMES, STATUS_NAMES, Bfs, Frame, Result, assay_metrics, run,
+from ._result import (BACKENDS, CUE_KIND_NAMES, STATUS_NAMES, Arbour, Bfs, Frame, Result, assay_metrics, run,
                       verify)
 from ._scene import Scene, SceneWarning
 from ._study import FitResult, SweepResult, SweepSpec, fit, sweep
@@ -27,7 +27,7 @@ def cuda_unavailable_reason():
 
 
 __all__ = [
-    "BACKENDS", "CUE_KIND_NAMES", "STATUS_NAMES", "Bfs", "FitResult", "Frame", "InputError", "Result", "RunError",
+    "BACKENDS", "CUE_KIND_NAMES", "STATUS_NAMES", "Arbour", "Bfs", "FitResult", "Frame", "InputError", "Result", "RunError",
     "Scene", "SceneError", "SceneWarning", "SweepResult", "SweepSpec", "assay_metrics", "commit",
     "cuda_unavailable_reason", "fit", "metric_names", "run", "sweep", "verify",
 ]

@@ -19,6 +19,10 @@ BACKENDS = ("reference", "cuda", "emulated")
 # One particle frame (output.paths or output.vtk with a particle field): positions (k, 3)
 # float64 and cue ids (k,) uint16 of every stride-th particle by id; count particles in all.
 Frame = namedtuple("Frame", "step positions cue count stride")
+# One neuron's arbour in SWC order (row 0: the soma): point (k, 3) float64 in the scene's
+# length unit, parent (k,) int64 (row of the parent, -1 for the soma), type (k,) uint8 (1 soma,
+# 2 axon, 3 dendrite), step (k,) uint32 (the step that made the point).
+Arbour = namedtuple("Arbour", "point parent type step")
 # bfs.csv's columns: level (int32, -1 unreached) and parent (int64, -1 none) from
 # analysis.bfs_sources, component (uint32, the lowest id in it); None when not analysed.
 Bfs = namedtuple("Bfs", "level parent component sources max_level reached component_count largest_component")
@@ -96,6 +100,20 @@ class Result:
         """(steps run + 1, neurons, 3) float64: the tips after each step (paths.csv holds
         neuron i's rows up to its steps); None without output.paths."""
         return self._h.paths()
+
+    def arbour(self, i):
+        """Neuron i's arbour as NumPy arrays (an Arbour: point, parent, type, step), the rows
+        of morphologies/<i>.swc in order (coordinates in the scene's length unit, not
+        micrometres); None for a scene without arbours."""
+        a = self._h.arbour(int(i))
+        return None if a is None else Arbour(*a)
+
+    @cached_property
+    def arbours(self):
+        """Every neuron's arbour (a list of Arbour, by neuron id); None without arbours."""
+        if self._h.arbour(0) is None:
+            return None
+        return [Arbour(*self._h.arbour(i)) for i in range(len(self.soma))]
 
     @cached_property
     def soma(self):

@@ -17,6 +17,7 @@
 #include "axonguide/accel/engines.hpp"
 #include "axonguide/scene/json_input.hpp"
 #include "axonguide/io/run_folder.hpp"
+#include "axonguide/morphology/arbour.hpp"
 #include "axonguide/support/threads.hpp"
 #include "axonguide/version.hpp"
 #include "common.hpp"
@@ -179,6 +180,34 @@ py::object paths_array(const RunResult& r) {
                       [&](std::size_t s) { std::memcpy(out + s * n * 3, r.paths[s].data(), n * sizeof(core::Vec3)); });
   }
   return a;
+}
+
+// Neuron i's arbour (arbour scenes; None otherwise): rows in SWC order, row 0 the soma.
+// point (k, 3) float64 in the scene's length unit, parent (k,) int64 (the parent's row; -1
+// for the soma), type (k,) uint8 (1 soma, 2 axon, 3 dendrite), step (k,) uint32 (the step
+// that made the point; 0 for the soma).
+py::object arbour_arrays(const RunResult& r, std::size_t i) {
+  if (!r.scene.arbours) return py::none();
+  if (i >= r.arbours.size()) throw py::index_error(fmt::format("arbour {}: the run has {} neurons", i, r.arbours.size()));
+  const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(r.arbours[i]);
+  const auto k = static_cast<py::ssize_t>(s.size() + 1);
+  py::array_t<double> point({k, py::ssize_t{3}});
+  py::array_t<std::int64_t> parent(k);
+  py::array_t<std::uint8_t> type(k);
+  py::array_t<std::uint32_t> step(k);
+  double* p = point.mutable_data();
+  std::int64_t* q = parent.mutable_data();
+  std::uint8_t* t = type.mutable_data();
+  std::uint32_t* st = step.mutable_data();
+  p[0] = r.soma[i].x, p[1] = r.soma[i].y, p[2] = r.soma[i].z;
+  q[0] = -1, t[0] = 1, st[0] = 0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    p[3 * (j + 1)] = s[j].pos.x, p[3 * (j + 1) + 1] = s[j].pos.y, p[3 * (j + 1) + 2] = s[j].pos.z;
+    q[j + 1] = static_cast<std::int64_t>(s[j].parent) - 1;  // SWC ids from 1, rows from 0
+    t[j + 1] = s[j].type;
+    st[j + 1] = s[j].step;
+  }
+  return py::make_tuple(point, parent, type, step);
 }
 
 py::list frames_list(py::object self) {
@@ -396,6 +425,7 @@ PYBIND11_MODULE(_core, m) {
                                           {static_cast<py::ssize_t>(soma.size()), 3}, self);
            })
       .def("frames", &frames_list)
+      .def("arbour", [](const RunHandle& h, std::size_t i) { return arbour_arrays(h.result, i); }, py::arg("i"))
       .def("bfs", &bfs_dict)
       .def("summary", [](const RunHandle& h) { return summary_dict(h.result); })
       .def("timings", [](const RunHandle& h) { return timings_dict(h.result); })

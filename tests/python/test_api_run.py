@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import axonguide
-from api_support import SMALL_CUE_SCENE, cli, column, num, read_csv, same, same_structured
+from api_support import SMALL_CUE_SCENE, SOURCE_DIR, cli, column, num, read_csv, same, same_structured
 
 # Wandering axons in a wide domain: every axon grows every step (about 1.2 ms a step on one
 # core), for the GIL and interrupt tests.
@@ -225,3 +225,28 @@ def test_cuda_is_refused_where_it_cannot_run():
         pytest.skip("the CUDA engine can run here")
     with pytest.raises((axonguide.InputError, axonguide.RunError)):
         axonguide.run({"neurons": {"count": 10}, "steps": 2}, backend="cuda")
+
+
+def test_arbours_are_the_swc_files(tmp_path):
+    """Run.arbour(i): NumPy arrays of the rows of morphologies/<i>.swc, in order (the culture
+    is in micrometres, so the coordinates are the file's)."""
+    scene = json.loads((SOURCE_DIR / "scenes" / "culture.json").read_text())
+    scene["neurons"]["count"] = 12
+    scene["neurons"]["region"]["radius"] = 300
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(scene))
+    cli("run", path, "--out", tmp_path / "out", "--threads", 2, "-q")
+    r = axonguide.run(scene, threads=2)
+    assert len(r.arbours) == 12
+    for i in range(12):
+        a = r.arbour(i)
+        rows = [line.split() for line in (tmp_path / "out" / "morphologies" / f"{i}.swc").read_text().splitlines()
+                if not line.startswith("#")]
+        assert len(rows) == len(a.point) == len(a.parent) == len(a.type) == len(a.step)
+        assert a.point.dtype == np.float64 and a.parent.dtype == np.int64 and a.type.dtype == np.uint8
+        assert [int(x[1]) for x in rows] == list(a.type)
+        assert [int(x[6]) - 1 if int(x[6]) > 0 else -1 for x in rows] == list(a.parent)
+        assert np.array_equal(np.array([[float(v) for v in x[2:5]] for x in rows]), a.point)
+        assert all(a.parent[k] < k for k in range(1, len(a.parent)))
+        assert a.type[0] == 1 and set(a.type[1:]) <= {2, 3}
+    assert axonguide.run({"neurons": {"count": 3}, "guidance": {"model": "direct"}}, threads=1).arbours is None

@@ -222,7 +222,9 @@ double expected_arbour_points(const Scene& scene) {
     }
     stems += q->stem_rate * static_cast<double>(scene.steps) * scene.dt;
     if (stems == 0.0) continue;
-    // A tree's points are its cone-steps: a pilot of the topology-only process.
+    // A tree's points: a pilot of the topology-only process. Every cone-step makes a point
+    // (sample length 0), or one per sample length of path plus one at every branching and
+    // at every end, whichever is fewer.
     morphology::TreeProcess tp;
     tp.branching = q->branching;
     tp.elongation = q->elongation;
@@ -230,9 +232,13 @@ double expected_arbour_points(const Scene& scene) {
     tp.steps = scene.steps;
     tp.seed = scene.seed;
     const std::uint32_t trees = 64;
-    double cone_steps = 0.0;
-    for (const morphology::TreeOutcome& o : morphology::grow_trees(tp, trees)) cone_steps += o.cone_steps;
-    points += stems * (1.0 + cone_steps / trees);
+    double tree_points = 0.0;
+    for (const morphology::TreeOutcome& o : morphology::grow_trees(tp, trees)) {
+      const double sampled = p.sample_length > 0.0 ? o.total_length / p.sample_length + 2.0 * o.branch_points + o.terminals
+                                                   : o.cone_steps;
+      tree_points += std::min(o.cone_steps, sampled);
+    }
+    points += stems * (1.0 + tree_points / trees);
   }
   return points;
 }

@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "axonguide/io/canonical_nan.hpp"
 #include "axonguide/io/output.hpp"
@@ -191,12 +192,45 @@ void write_vtk(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   std::string pvd = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
                     "  <Collection>\n";
   std::size_t frame_index = 0;
+  // Arbours: every neuron's SWC samples, once.
+  std::vector<std::vector<morphology::ArbourSample>> arbour(r.arbours.size());
+  tbb::parallel_for(std::size_t{0}, r.arbours.size(), [&](std::size_t i) { arbour[i] = morphology::arbour_samples(r.arbours[i]); });
   for (std::uint32_t t : vtk_frame_steps(r)) {
     // Axons up to step t: path points 0..min(t, steps_i).
     std::vector<core::Vec3> pts;
     std::vector<std::int32_t> pstep, status;
     std::vector<std::int64_t> id, conn, offs;
-    for (std::size_t i = 0; i < n; ++i) {
+    // Arbours up to step t: one polyline per cone with a point made by then, from its
+    // parent's branch point (a stem from its first point), with the cone's neuron, index,
+    // type and order.
+    std::vector<std::int64_t> cone;
+    std::vector<std::int32_t> type, order;
+    for (std::size_t i = 0; i < arbour.size(); ++i) {
+      const std::vector<morphology::ArbourSample>& s = arbour[i];
+      for (std::size_t j = 0; j < s.size();) {
+        std::size_t end = j;
+        while (end < s.size() && s[end].cone == s[j].cone) ++end;  // one cone's samples: [j, end)
+        if (s[j].step <= t) {
+          if (s[j].parent > 1 && s[s[j].parent - 2].cone != s[j].cone) {  // from the branch point
+            conn.push_back(static_cast<std::int64_t>(pts.size()));
+            pts.push_back(s[s[j].parent - 2].pos);
+            pstep.push_back(static_cast<std::int32_t>(s[s[j].parent - 2].step));
+          }
+          for (std::size_t k = j; k < end && s[k].step <= t; ++k) {
+            conn.push_back(static_cast<std::int64_t>(pts.size()));
+            pts.push_back(s[k].pos);
+            pstep.push_back(static_cast<std::int32_t>(s[k].step));
+          }
+          offs.push_back(static_cast<std::int64_t>(pts.size()));
+          id.push_back(static_cast<std::int64_t>(i));
+          cone.push_back(static_cast<std::int64_t>(s[j].cone));
+          type.push_back(s[j].type);
+          order.push_back(s[j].order);
+        }
+        j = end;
+      }
+    }
+    for (std::size_t i = 0; i < n && arbour.empty(); ++i) {
       const std::uint32_t last = std::min<std::uint32_t>(t, r.neurons.steps[i]);
       if (last >= r.paths.size()) continue;
       for (std::uint32_t s = 0; s <= last; ++s) {
@@ -212,7 +246,13 @@ void write_vtk(const RunResult& r, const fs::path& dir, OutputInfo& info) {
     w.coordinates(pts);
     w.point_array("step", "Int32", 1, pstep);
     w.cell_array("id", "Int64", 1, id);
-    w.cell_array("status", "Int32", 1, status);
+    if (arbour.empty()) {
+      w.cell_array("status", "Int32", 1, status);
+    } else {
+      w.cell_array("cone", "Int64", 1, cone);
+      w.cell_array("type", "Int32", 1, type);
+      w.cell_array("order", "Int32", 1, order);
+    }
     w.cells("Lines", std::move(conn), std::move(offs));
     const std::string axons = fmt::format("axons_{:06d}.vtp", t);
     emit(axons, w);

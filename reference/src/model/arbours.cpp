@@ -146,9 +146,6 @@ void check_arbours(const Scene& s) {
         "by cues is not built yet (docs/methods.md §2.12); use guidance.model \"direct\" and the constant growth "
         "model",
         name_of(s.guidance.model), s.signalling() ? " and the signalling growth model" : ""));
-  if (s.output.vtk)
-    fail_key("output.vtk", true, "VTK polylines of arbours are not built yet: set output.vtk false (morphologies/*.swc and "
-                                 "paths.csv hold the arbours)");
   if (s.output.sonata)
     fail_key("output.sonata", true, "SONATA morphology references for arbours are not built yet: set output.sonata "
                                     "false (morphologies/*.swc hold the arbours)");

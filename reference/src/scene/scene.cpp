@@ -234,7 +234,7 @@ ParseResult parse_scene(const std::string& text, const std::string& origin) {
 }
 
 void resolve_output_dependencies(Scene& scene, std::vector<std::string>& warnings) {
-  if (scene.output.vtk && !scene.output.paths) {
+  if (scene.output.vtk && !scene.output.paths && !scene.arbours) {
     scene.output.paths = true;
     warnings.push_back("output.vtk draws the axons' paths: output.paths is enabled");
   }

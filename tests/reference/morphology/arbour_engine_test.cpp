@@ -54,6 +54,7 @@ rc::Gen<Scene> gen_arbour_scene() {
     s.arbours = a;
     s.output.swc = true;
     s.output.paths = true;
+    s.output.vtk = *rc::gen::arbitrary<bool>();
     return s;
   });
 }
@@ -162,6 +163,34 @@ TEST(arbours, ACheckpointCarriesTheArbours) {
   EXPECT_EQ(test::output_hashes(out.path()), want);
 }
 
+// VTK: the last frame holds one polyline per cone that made a point, each from its parent's
+// branch point (a stem from its own first point): points = samples + daughters drawn.
+TEST(arbours, VtkHasOnePolylinePerCone) {
+  Scene scene = culture();
+  scene.neurons.count = 30;
+  scene.output.vtk = true;
+  scene.output.frames_every = 100;
+  RunOptions o;
+  const RunResult r = run_scene(scene, o);
+  test::TempDir dir;
+  write_outputs(r, dir.path(), "test", 2, {});
+  std::size_t lines = 0, points = 0;
+  for (const morphology::Arbour& a : r.arbours) {
+    const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(a);
+    points += s.size();
+    for (std::size_t j = 0; j < s.size(); ++j)
+      if (j == 0 || s[j].cone != s[j - 1].cone) {
+        ++lines;
+        if (s[j].parent > 1 && s[s[j].parent - 2].cone != s[j].cone) ++points;
+      }
+  }
+  const std::string vtp = test::read_file(dir.path() / "vtk" / fmt::format("axons_{:06d}.vtp", r.steps_run));
+  EXPECT_NE(vtp.find(fmt::format("NumberOfPoints=\"{}\"", points)), std::string::npos);
+  EXPECT_NE(vtp.find(fmt::format("NumberOfLines=\"{}\"", lines)), std::string::npos);
+  EXPECT_NE(vtp.find("Name=\"order\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir.path() / "growth.pvd"));
+}
+
 // Bad input: exit 2 naming the key, the value and the allowed range.
 TEST(arbours, BadParametersAreRefusedWithTheirKeyAndRange) {
   struct Case {
@@ -209,7 +238,7 @@ TEST(arbours, BadParametersAreRefusedWithTheirKeyAndRange) {
 
 TEST(arbours, WhatIsNotBuiltIsRefusedBeforeAnythingRuns) {
   EXPECT_THROW(parse_scene(R"({"guidance": {"model": "snr"}, "arbours": {}})", "s.json"), InputError);
-  EXPECT_THROW(parse_scene(R"({"arbours": {}, "output": {"vtk": true}})", "s.json"), InputError);
+  EXPECT_THROW(parse_scene(R"({"arbours": {}, "output": {"sonata": true}})", "s.json"), InputError);
   EXPECT_THROW(parse_scene(R"({"arbours": {"slab": 2}})", "s.json"), InputError);  // a layer needs a disc
   test::TempDir dir;
   const auto [code, out] = test::run_command(fmt::format("run {}/scenes/culture.json --backend emulated --out {}",

@@ -31,6 +31,7 @@
 #include "axonguide/support/error.hpp"
 #include "axonguide/support/fault.hpp"
 #include "axonguide/io/output.hpp"
+#include "axonguide/io/swc.hpp"
 
 // Sweeps write their members' SONATA files on several threads at once: the HDF5 library must
 // be a thread-safe build (Debian's is).
@@ -354,6 +355,14 @@ void write_nodes(const RunResult& r, const fs::path& dir) {
       for (std::size_t k = 0; k < size; ++k) out[k] = static_cast<std::uint8_t>(r.neurons.status[begin + k]);
     });
     column(g0, "steps", r.neurons.steps);
+    if (r.scene.arbours) {
+      // Each node names its soma-centred morphology (network/morphologies/<id>.swc), which
+      // SONATA clients place at the node's x, y, z: the name without its extension, as the
+      // SONATA spec's "morphology" attribute has it.
+      std::vector<std::string> names(n);
+      for (std::size_t i = 0; i < n; ++i) names[i] = std::to_string(i);
+      strings(g0, "morphology", names);
+    }
     if (r.graph.bfs) column(g0, "bfs_level", r.graph.bfs->level);
     if (!r.graph.component.empty()) column(g0, "component", r.graph.component);
     {
@@ -474,12 +483,14 @@ constexpr const char* kEdgeTypes =
     "edge_type_id population model_template receptor_type\n"
     "0 axonguide_to_axonguide pyNN:StaticSynapse excitatory\n";
 
-std::string circuit_config() {
+std::string circuit_config(bool morphologies) {
   // Paths relative to the folder that holds this file, so that the run folder can move.
+  const nlohmann::json components = morphologies ? nlohmann::json{{"morphologies_dir", "$BASE_DIR/morphologies"}}
+                                                 : nlohmann::json::object();
   const nlohmann::json j = {
       {"manifest", {{"$BASE_DIR", "."}}},
       {"target_simulator", "PyNN"},
-      {"components", nlohmann::json::object()},
+      {"components", components},
       {"networks",
        {{"nodes", {{{"nodes_file", "$BASE_DIR/nodes.h5"}, {"node_types_file", "$BASE_DIR/node_types.csv"}}}},
         {"edges", {{{"edges_file", "$BASE_DIR/edges.h5"}, {"edge_types_file", "$BASE_DIR/edge_types.csv"}}}}}}};
@@ -521,7 +532,8 @@ void write_sonata(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   };
   emit("node_types.csv", kNodeTypes);
   emit("edge_types.csv", kEdgeTypes);
-  emit("circuit_config.json", circuit_config());
+  emit("circuit_config.json", circuit_config(r.scene.arbours.has_value()));
+  if (r.scene.arbours) write_centred_swc(r, dir, "network/morphologies", info);
 }
 
 }  // namespace axg

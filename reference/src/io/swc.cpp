@@ -19,7 +19,7 @@ namespace {
 // An arbour: the soma, then every cone's points in cone order (morphology::samples), each
 // with its type (2 axon, 3 dendrite) and the radius of its neurite type at its centrifugal
 // order (diameter x taper^order / 2).
-std::string arbour_swc_text(const RunResult& r, std::size_t i) {
+std::string arbour_swc_text(const RunResult& r, std::size_t i, SwcFrame frame) {
   const double um = r.scene.units.micrometres();
   const ArbourKeys& k = *r.scene.arbours;
   double radius[2][256];
@@ -31,12 +31,14 @@ std::string arbour_swc_text(const RunResult& r, std::size_t i) {
   fmt::memory_buffer b;
   auto out = std::back_inserter(b);
   fmt::format_to(out, "# axonguide neuron {}: soma, then its arbour (axon 2, dendrites 3), cone by cone; micrometres\n", i);
-  const core::Vec3 soma = canonical(r.soma[i]);
+  const bool centred = frame == SwcFrame::kSomaCentred;
+  const core::Vec3 origin = centred ? r.soma[i] : core::Vec3{0, 0, 0};
+  const core::Vec3 soma = canonical(r.soma[i] - origin);
   fmt::format_to(out, "1 1 {} {} {} {} -1\n", soma.x * um, soma.y * um, soma.z * um,
                  canonical(r.scene.neurons.soma_radius) * um);
   const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(r.arbours[i]);
   for (std::size_t j = 0; j < s.size(); ++j) {
-    const core::Vec3 p = canonical(s[j].pos);
+    const core::Vec3 p = canonical(s[j].pos - origin);
     fmt::format_to(out, "{} {} {} {} {} {} {}\n", j + 2, s[j].type, p.x * um, p.y * um, p.z * um,
                    radius[s[j].type == morphology::kAxonType ? 0 : 1][s[j].order], s[j].parent);
   }
@@ -45,8 +47,8 @@ std::string arbour_swc_text(const RunResult& r, std::size_t i) {
 
 }  // namespace
 
-std::string swc_text(const RunResult& r, std::size_t i) {
-  if (r.scene.arbours) return arbour_swc_text(r, i);
+std::string swc_text(const RunResult& r, std::size_t i, SwcFrame frame) {
+  if (r.scene.arbours) return arbour_swc_text(r, i, frame);
   const double um = r.scene.units.micrometres();
   fmt::memory_buffer b;
   auto out = std::back_inserter(b);
@@ -64,8 +66,11 @@ std::string swc_text(const RunResult& r, std::size_t i) {
   return fmt::to_string(b);
 }
 
-void write_swc(const RunResult& r, const fs::path& dir, OutputInfo& info) {
-  const fs::path mdir = dir / "morphologies";
+namespace {
+
+void write_swc_files(const RunResult& r, const fs::path& dir, const std::string& sub, SwcFrame frame,
+                     OutputInfo& info) {
+  const fs::path mdir = dir / sub;
   create_output_dir(mdir);
   const std::size_t n = r.neurons.size();
   std::vector<std::string> hashes(n);
@@ -73,11 +78,21 @@ void write_swc(const RunResult& r, const fs::path& dir, OutputInfo& info) {
   // once before their hashes are recorded (and the manifest names them).
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     AtomicFile f(mdir, fmt::format("{}.swc", i), AtomicFile::Sync::kDeferred);
-    f.write(swc_text(r, i));
+    f.write(swc_text(r, i, frame));
     hashes[i] = f.commit();
   });
   sync_filesystem(mdir);
-  for (std::size_t i = 0; i < n; ++i) info.files.emplace_back(fmt::format("morphologies/{}.swc", i), std::move(hashes[i]));
+  for (std::size_t i = 0; i < n; ++i) info.files.emplace_back(fmt::format("{}/{}.swc", sub, i), std::move(hashes[i]));
+}
+
+}  // namespace
+
+void write_swc(const RunResult& r, const fs::path& dir, OutputInfo& info) {
+  write_swc_files(r, dir, "morphologies", SwcFrame::kAbsolute, info);
+}
+
+void write_centred_swc(const RunResult& r, const fs::path& dir, const std::string& sub, OutputInfo& info) {
+  write_swc_files(r, dir, sub, SwcFrame::kSomaCentred, info);
 }
 
 }  // namespace axg

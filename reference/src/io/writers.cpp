@@ -207,6 +207,7 @@ std::vector<std::string> planned_outputs(const Scene& s) {
   if (s.output.swc) names.push_back("morphologies/*.swc");
   if (s.output.sonata)
     for (const char* f : kSonataFiles) names.push_back(f);
+  if (s.output.sonata && s.arbours) names.push_back("network/morphologies/*.swc");
   return names;
 }
 

@@ -146,9 +146,6 @@ void check_arbours(const Scene& s) {
         "by cues is not built yet (docs/methods.md §2.12); use guidance.model \"direct\" and the constant growth "
         "model",
         name_of(s.guidance.model), s.signalling() ? " and the signalling growth model" : ""));
-  if (s.output.sonata)
-    fail_key("output.sonata", true, "SONATA morphology references for arbours are not built yet: set output.sonata "
-                                    "false (morphologies/*.swc hold the arbours)");
   if (s.arbours->slab > 0.0 && s.neurons.shape != RegionShape::kDisc)
     fail_key("arbours.slab", s.arbours->slab,
              "a growth layer belongs to a culture: neurons.region.shape \"disc\" (or slab 0)");

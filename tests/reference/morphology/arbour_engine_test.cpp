@@ -55,6 +55,7 @@ rc::Gen<Scene> gen_arbour_scene() {
     s.output.swc = true;
     s.output.paths = true;
     s.output.vtk = *rc::gen::arbitrary<bool>();
+    s.output.sonata = *rc::gen::arbitrary<bool>();
     return s;
   });
 }
@@ -238,7 +239,6 @@ TEST(arbours, BadParametersAreRefusedWithTheirKeyAndRange) {
 
 TEST(arbours, WhatIsNotBuiltIsRefusedBeforeAnythingRuns) {
   EXPECT_THROW(parse_scene(R"({"guidance": {"model": "snr"}, "arbours": {}})", "s.json"), InputError);
-  EXPECT_THROW(parse_scene(R"({"arbours": {}, "output": {"sonata": true}})", "s.json"), InputError);
   EXPECT_THROW(parse_scene(R"({"arbours": {"slab": 2}})", "s.json"), InputError);  // a layer needs a disc
   test::TempDir dir;
   const auto [code, out] = test::run_command(fmt::format("run {}/scenes/culture.json --backend emulated --out {}",

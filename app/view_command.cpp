@@ -3,10 +3,12 @@
 // JSON with base64 typed arrays). `axonguide plot DIR` writes PNG plots with matplotlib.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -170,6 +172,58 @@ std::string import_map(const ViewerFiles& v) {
   return m.dump();
 }
 
+// An arbour run's paths.csv as segments: add(owner, a, b, step_a, step_b, type, order) for
+// each, cone by cone. A cone starts at its parent's last point (the point it branched at),
+// a stem at its own first point; a parent comes before its daughters in the file (cones are
+// numbered by the tree). Above kMaxPathPoints rows, every k-th point of a cone is kept,
+// and every cone's last (the page says so).
+template <class Add>
+void add_arbour_segments(const Csv& paths, std::size_t n, std::vector<std::string>& notes, Add&& add) {
+  const int c_id = paths.col("id"), c_cone = paths.col("cone"), c_parent = paths.col("parent"),
+            c_type = paths.col("type"), c_order = paths.col("order"), c_step = paths.col("step"), c_x = paths.col("x");
+  if (std::min({c_id, c_parent, c_type, c_order, c_step, c_x}) < 0 || c_x + 2 >= static_cast<int>(paths.header.size()))
+    paths.refuse(0, "an arbour paths.csv has the columns id,cone,parent,type,order,step,x,y,z");
+  const std::size_t stride = (paths.rows.size() + kMaxPathPoints - 1) / kMaxPathPoints;
+  if (stride > 1)
+    notes.push_back(fmt::format("paths thinned: {} points, every {}th point of a cone kept (and each cone's last)",
+                                paths.rows.size(), stride));
+  struct End {
+    float p[3];
+    float step;
+  };
+  std::map<long long, End> last;  // this neuron's cones' last points, by cone
+  long long neuron = -1, cone = -1;
+  End prev{};
+  bool have_prev = false;
+  std::size_t in_cone = 0;
+  for (std::size_t k = 0; k < paths.rows.size(); ++k) {
+    const long long id = paths.integer(k, c_id, 0, static_cast<long long>(n) - 1);
+    const long long c = paths.integer(k, c_cone, 0, 4294967295LL);
+    const End here{{static_cast<float>(paths.number(k, c_x)), static_cast<float>(paths.number(k, c_x + 1)),
+                    static_cast<float>(paths.number(k, c_x + 2))},
+                   static_cast<float>(paths.integer(k, c_step, 0, 4294967295LL))};
+    const auto type = static_cast<std::uint8_t>(paths.integer(k, c_type, 2, 3));
+    const auto order = static_cast<std::uint8_t>(paths.integer(k, c_order, 0, 255));
+    if (id != neuron) last.clear(), neuron = id, cone = -1;
+    if (c != cone) {  // a cone's first point: from its parent's branch point, if it has one
+      const long long parent = paths.integer(k, c_parent, -1, 4294967295LL);
+      const auto it = parent < 0 ? last.end() : last.find(parent);
+      if (parent >= 0 && it == last.end()) paths.refuse(k, fmt::format("cone {} comes before its parent {}", c, parent));
+      have_prev = it != last.end();
+      if (have_prev) prev = it->second;
+      cone = c, in_cone = 0;
+    }
+    const bool cone_last = k + 1 == paths.rows.size() || paths.rows[k + 1][static_cast<std::size_t>(c_id)] !=
+                                                              paths.rows[k][static_cast<std::size_t>(c_id)] ||
+                           paths.rows[k + 1][static_cast<std::size_t>(c_cone)] !=
+                               paths.rows[k][static_cast<std::size_t>(c_cone)];
+    if (in_cone++ % stride != 0 && !cone_last) continue;
+    if (have_prev) add(static_cast<std::uint32_t>(id), prev.p, here.p, prev.step, here.step, type, order);
+    prev = here, have_prev = true;
+    last[c] = here;
+  }
+}
+
 }  // namespace
 
 int cmd_view(const std::string& dir_name) {
@@ -239,9 +293,13 @@ int cmd_view(const std::string& dir_name) {
   // Axon segments: from paths.csv when present (thinned to every k-th step if needed),
   // else one straight segment from the soma to the tip. Each vertex carries the step at
   // which the axon reached it; the shader hides fragments beyond the slider's time, so a
-  // segment grows continuously (one segment per axon is enough for a straight axon).
+  // segment grows continuously (one segment per axon is enough for a straight axon). An
+  // arbour run's paths.csv (id,cone,parent,type,order,step,x,y,z) gives every cone's
+  // points: each cone is drawn from its parent's last point (its branch point), and each
+  // segment carries its neurite type and centrifugal order, to colour by.
   std::vector<float> seg_pos, seg_step;
   std::vector<std::uint32_t> seg_owner;
+  std::vector<std::uint8_t> seg_type, seg_order;
   auto add_segment = [&](std::uint32_t owner, const float* a, const float* b, float step_a, float step_b) {
     seg_pos.insert(seg_pos.end(), a, a + 3);
     seg_pos.insert(seg_pos.end(), b, b + 3);
@@ -249,7 +307,15 @@ int cmd_view(const std::string& dir_name) {
     seg_step.push_back(step_b);
     seg_owner.push_back(owner);
   };
-  if (load_listed("paths.csv", paths, 5)) {
+  const bool arbours = load_listed("paths.csv", paths, 5) && paths.col("cone") >= 0;
+  if (arbours) {
+    add_arbour_segments(paths, n, notes, [&](std::uint32_t owner, const float* a, const float* b, float step_a,
+                                             float step_b, std::uint8_t type, std::uint8_t order) {
+      add_segment(owner, a, b, step_a, step_b);
+      seg_type.push_back(type);
+      seg_order.push_back(order);
+    });
+  } else if (!paths.rows.empty()) {
     const std::size_t stride = (paths.rows.size() + kMaxPathPoints - 1) / kMaxPathPoints;
     if (stride > 1)
       notes.push_back(fmt::format("paths thinned: {} points, every {}th step kept (and each axon's last)",
@@ -278,6 +344,11 @@ int cmd_view(const std::string& dir_name) {
     notes.push_back("no paths.csv (run with output.paths): axons drawn straight from soma to tip");
     for (std::size_t i = 0; i < n; ++i)
       add_segment(static_cast<std::uint32_t>(i), &soma[3 * i], &tip[3 * i], 0.0f, static_cast<float>(steps[i]));
+  }
+  if (arbours) {
+    data["paths_type"] = b64(seg_type);
+    data["paths_order"] = b64(seg_order);
+    meta["arbours"] = true;
   }
   data["paths"] = {{"points", b64(seg_pos)}, {"step", b64(seg_step)}, {"owner", b64(seg_owner)}};
 
@@ -318,6 +389,7 @@ int cmd_view(const std::string& dir_name) {
     steps_run = std::max<std::uint32_t>(steps_run, m.at("summary").at("steps_run").get<std::uint32_t>());
     title = fmt::format("axonguide: {} neurons, {} guidance, seed {}", m.at("summary").at("neurons").get<std::size_t>(),
                         m.at("scene").at("guidance").at("model").get<std::string>(), m.at("seed").get<std::uint64_t>());
+    if (arbours) title += ", arbours";
   } catch (const std::exception&) {
     notes.push_back("the manifest has no run summary");
   }

@@ -1,6 +1,7 @@
-// The axonguide browser viewer: somas as instanced spheres, axons as line segments that
-// grow with the time slider, cue sources and particle frames, an orbit camera, and a
-// click on a soma to see the neuron. Everything it shows comes from the JSON that
+// The axonguide browser viewer: somas as instanced spheres, axons (or, in an arbour run,
+// every cone's path) as line segments that grow with the time slider, cue sources and
+// particle frames, an orbit camera, and a click on a soma to see the neuron. Arbour
+// segments can be coloured by centrifugal order or by neurite type. Everything it shows comes from the JSON that
 // `axonguide view` embeds in the page (element #axg-data); nothing is fetched.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
@@ -28,6 +29,25 @@ function levelColor(level, maxLevel, out) {
   if (level < 0) return out.setRGB(0.55, 0.55, 0.55);
   const t = maxLevel > 0 ? level / maxLevel : 0;
   return out.setHSL(0.66 * (1 - t), 0.8, 0.5);
+}
+
+// Centrifugal order 0, 1, 2, ... from blue through green to red (order >= 8 is red).
+const MAX_ORDER_HUE = 8;
+function orderColor(order, out) {
+  return out.setHSL(0.66 * (1 - Math.min(order, MAX_ORDER_HUE) / MAX_ORDER_HUE), 0.85, 0.55);
+}
+const TYPE_COLORS = { 2: 0xff6b4a, 3: 0x4ab0ff };  // SWC types: axon, dendrite
+
+function legendHtml(mode) {
+  const swatch = (css, label) => `<span style="background:${css}"></span>${label}`;
+  if (mode === 'type') return swatch('#ff6b4a', 'axon') + swatch('#4ab0ff', 'dendrite');
+  if (mode === 'order') {
+    const c = new THREE.Color();
+    return [0, 1, 2, 4, MAX_ORDER_HUE].map((o) => swatch(`#${orderColor(o, c).getHexString()}`,
+      o === MAX_ORDER_HUE ? `${o}+` : `${o}`)).join('') + ' order';
+  }
+  return swatch('#1f77b4', 'growing') + swatch('#2ca02c', 'connected') + swatch('#ff7f0e', 'exited') +
+    swatch('#9467bd', 'max steps');
 }
 
 function main() {
@@ -80,6 +100,8 @@ function main() {
   const segPos = decode(seg.points, Float32Array);
   const segStep = decode(seg.step, Float32Array);
   const segOwner = decode(seg.owner, Uint32Array);
+  const segType = decode(raw.paths_type, Uint8Array);  // arbour runs only
+  const segOrder = decode(raw.paths_order, Uint8Array);
   const axonGeo = new THREE.BufferGeometry();
   axonGeo.setAttribute('position', new THREE.BufferAttribute(segPos, 3));
   axonGeo.setAttribute('step', new THREE.BufferAttribute(segStep, 1));
@@ -129,6 +151,7 @@ function main() {
   const color = new THREE.Color();
   function neuronColor(i, t) {
     const mode = $('axg-color').value;
+    if ((mode === 'order' || mode === 'type') && segOrder) return color.setRGB(0.85, 0.85, 0.85);
     if (mode === 'component' && component) return labelColor(component[i], color);
     if (mode === 'level' && level) return levelColor(level[i], maxLevel, color);
     const s = steps[i] > t ? 0 : status[i];
@@ -151,8 +174,13 @@ function main() {
     coloredAt = key;
     for (let i = 0; i < n; ++i) somas.setColorAt(i, neuronColor(i, ti));
     somas.instanceColor.needsUpdate = true;
+    const mode = $('axg-color').value;
+    const bySegment = segOrder && (mode === 'order' || mode === 'type');
+    $('axg-legend').innerHTML = legendHtml(bySegment ? mode : 'status');
     for (let k = 0; k < segOwner.length; ++k) {
-      neuronColor(segOwner[k], ti);
+      if (bySegment && mode === 'order') orderColor(segOrder[k], color);
+      else if (bySegment) color.setHex(TYPE_COLORS[segType[k]]);
+      else neuronColor(segOwner[k], ti);
       for (let v = 0; v < 2; ++v) {
         axonColor[6 * k + 3 * v] = color.r; axonColor[6 * k + 3 * v + 1] = color.g; axonColor[6 * k + 3 * v + 2] = color.b;
       }
@@ -171,6 +199,8 @@ function main() {
   $('axg-particles').addEventListener('change', () => setTime(time));
   if (!component) $('axg-color').querySelector('option[value=component]').disabled = true;
   if (!level) $('axg-color').querySelector('option[value=level]').disabled = true;
+  for (const v of ['order', 'type']) $('axg-color').querySelector(`option[value=${v}]`).disabled = !segOrder;
+  if (segOrder) $('axg-color').value = 'order';
   if (!raw.frames.length) $('axg-particles-label').style.display = 'none';
 
   let playing = false;
@@ -229,7 +259,7 @@ function main() {
     controls.update();
     renderer.render(scene, camera);
     if (++frameCount === 2) {
-      summary = `ready: ${n} neurons, ${segOwner.length} axon segments, ${raw.sources.length} sources, ${frames.length} particle frames`;
+      summary = `ready: ${n} neurons, ${segOwner.length} ${segOrder ? 'arbour' : 'axon'} segments, ${raw.sources.length} sources, ${frames.length} particle frames`;
       $('axg-status').textContent = summary;
       document.body.dataset.ready = '1';
       console.log('axonguide view ready');

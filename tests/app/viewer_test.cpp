@@ -116,6 +116,72 @@ void replace_line(const fs::path& file, int line, const std::string& text) {
   std::ofstream(file, std::ios::binary) << out;
 }
 
+// An arbour run (issue 41): every cone's path drawn from its parent's branch point (one
+// segment per paths.csv row, but for each stem's first point), coloured by centrifugal
+// order; a cone listed before its parent is refused, not drawn.
+TEST(viewer, ArbourPageDrawsEveryConeByOrder) {
+  if (!has("command -v chromium")) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh)";
+  if (!has("/usr/bin/python3 -c 'import PIL'")) GTEST_SKIP() << "python3-pil is not installed";
+  test::TempDir tmp;
+  auto scene = nlohmann::json::parse(test::read_file(fs::path(test::source_dir()) / "scenes" / "culture.json"));
+  scene["neurons"]["count"] = 40;
+  scene["neurons"]["region"]["radius"] = 400;
+  scene["output"] = {{"paths", true}};
+  std::ofstream(tmp.path() / "culture.json") << scene.dump();
+  const fs::path run = tmp.path() / "run";
+  ASSERT_EQ(shell(fmt::format("{} run {} --out {} -q", test::binary(), (tmp.path() / "culture.json").string(), run.string())).code, 0);
+  std::size_t rows = 0, stems = 0;
+  {
+    std::istringstream in(test::read_file(run / "paths.csv"));
+    std::string line, prev_cone;
+    std::getline(in, line);
+    ASSERT_EQ(line, "id,cone,parent,type,order,step,x,y,z");
+    for (; std::getline(in, line); ++rows) {
+      std::vector<std::string> c;
+      std::stringstream ss(line);
+      for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+      const std::string cone = c[0] + "," + c[1];
+      if (cone != prev_cone && c[2] == "-1") ++stems;
+      prev_cone = cone;
+    }
+  }
+  ASSERT_GT(rows, 1000u);
+  const Out v = shell(fmt::format("{} view {}", test::binary(), run.string()));
+  ASSERT_EQ(v.code, 0) << v.text;
+  const std::string url = "file://" + (run / "view.html").string();
+  const Out dom = shell(fmt::format("chromium {} --user-data-dir={} --dump-dom {}", kChromiumFlags,
+                                    (tmp.path() / "profile1").string(), url));
+  EXPECT_NE(dom.text.find(fmt::format("id=\"axg-status\">ready: 40 neurons, {} arbour segments", rows - stems)),
+            std::string::npos)
+      << dom.text.substr(0, 4000);
+  EXPECT_NE(dom.text.find("id=\"axg-errors\" hidden=\"\"></div>"), std::string::npos) << "page errors: " << dom.text;
+  EXPECT_NE(dom.text.find("8+ order"), std::string::npos) << "the order legend";
+  const fs::path shot = tmp.path() / "shot.png";
+  shell(fmt::format("chromium {} --user-data-dir={} --screenshot={} {}", kChromiumFlags, (tmp.path() / "profile2").string(),
+                    shot.string(), url));
+  ASSERT_TRUE(fs::exists(shot));
+  const Out px = shell(fmt::format("/usr/bin/python3 {}/tests/app/pixels.py {}", test::source_dir(), shot.string()));
+  double fraction = 0;
+  int colours = 0;
+  ASSERT_EQ(std::sscanf(px.text.c_str(), "%lf %d", &fraction, &colours), 2) << px.text;
+  EXPECT_GT(fraction, 0.05) << "the canvas looks blank";
+  EXPECT_GT(colours, 50) << "too few colours for arbours coloured by order";
+  // A daughter listed before its parent (the file edited, the manifest re-hashed): refused.
+  std::istringstream in(test::read_file(run / "paths.csv"));
+  std::string line;
+  int number = 0, daughter = 0;
+  while (std::getline(in, line) && !daughter) {
+    ++number;
+    if (number > 1 && line.find(",-1,") == std::string::npos) daughter = number;
+  }
+  ASSERT_GT(daughter, 0);
+  replace_line(run / "paths.csv", 2, line);
+  rehash(run, "paths.csv");
+  const Out bad = shell(fmt::format("{} view {}", test::binary(), run.string()));
+  EXPECT_EQ(bad.code, 2) << bad.text;
+  EXPECT_NE(bad.text.find("before its parent"), std::string::npos) << bad.text;
+}
+
 // view draws only whole runs, only the files they list, and only a run's data.
 TEST(viewer, RefusesWhatIsNotARun) {
   test::TempDir tmp;

@@ -14,7 +14,10 @@
 #include "axonguide/core/branching.hpp"
 #include "axonguide/core/growth.hpp"
 #include "axonguide/engine/cell_grid.hpp"
+#include "axonguide/fields/fields.hpp"
+#include "axonguide/model/cues.hpp"
 #include "axonguide/model/growth.hpp"
+#include "axonguide/model/steering.hpp"
 #include "axonguide/morphology/tree_process.hpp"
 #include "axonguide/support/error.hpp"
 
@@ -87,6 +90,23 @@ int poisson(double m, double u) {
   return k;
 }
 
+// The cue stage of one growing cone (core::guide_axon, the axons' body): its sample, and its
+// decision at the interval's end (kept in the plane in a culture). A cone steers on an interval's sums only when it held
+// them from the interval's start (Cone::evidence).
+void steer_cone(const ArbourSteering& st, bool planar, std::uint64_t key, core::Vec3 at, Cone& c, double* sums) {
+  core::CueSample samples[core::kMaxCues];
+  core::Vec3 pull[core::kMaxCues];
+  const core::Decision& d = st.decision;
+  if (st.sums_per_cone) {
+    if (d.open) c.evidence = true;
+    if (!c.evidence) return;
+  }
+  st.field->sample(at, samples, pull);
+  const core::GuidedAxon cone{&c.heading, nullptr, nullptr, 0.0, st.sums_per_cone ? sums : nullptr};
+  core::guide_axon(*st.guide, samples, pull, cone, key, d);
+  if (planar) c.heading = core::in_plane(c.heading);
+}
+
 }  // namespace
 
 void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, Arbour& a) {
@@ -124,6 +144,15 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
                                                                      static_cast<int>(tree.by_order.size()), ts.n);
     ts.probability = core::cone_branch_probability(ts.branching, p.branching.s, 0, ts.mean_weight);
   }
+  const ArbourSteering& steering = ctx.steering;
+  const bool steers = steering.field != nullptr;
+  const bool after = steers && steering.guide->after_move;
+  const std::size_t m = steering.sums_per_cone;
+  thread_local std::vector<double> next_sums, daughter_sums;
+  next_sums.clear();
+  daughter_sums.clear();
+  // The stems started at birth (at the end of `growing`) hold no evidence yet.
+  if (m) a.sums.resize(a.growing.size() * m, 0.0);
   auto add_point = [&](std::uint32_t idx, core::Vec3 at) {
     a.point.push_back(at);
     a.cone_of.push_back(idx);
@@ -132,8 +161,11 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
   };
   next.clear();
   daughters.clear();
-  for (const std::uint32_t idx : a.growing) {
+  for (std::size_t g = 0; g < a.growing.size(); ++g) {
+    const std::uint32_t idx = a.growing[g];
     const std::uint64_t key = core::cone_key(neuron, idx);
+    double* sums = m ? a.sums.data() + g * m : nullptr;
+    if (steers && !after) steer_cone(steering, P.planar, key, a.cones[idx].tip, a.cones[idx], sums);
     const Cone c0 = a.cones[idx];
     const NeuriteParams& p = neurite(P, c0.type);
     const TreeStep& ts = trees[c0.tree];
@@ -161,12 +193,14 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
       continue;
     }
     c.heading = core::cone_wander(c.heading, l, p.geometry, ctx.seed, key, step);
+    if (after) steer_cone(steering, P.planar, key, core::sample_point(*steering.guide, c.tip, c.heading, &l), c, sums);
     const double q = p.branching.s == 0.0 ? ts.probability
                                           : core::cone_branch_probability(ts.branching, p.branching.s, c.order,
                                                                           ts.mean_weight);
     if (!(q > 0.0) || !core::branches(q, ctx.seed, key, step)) {
       if (c.unsampled >= P.sample_length || step == ctx.last_step) add_point(idx, c.tip);
       next.push_back(idx);
+      if (m) next_sums.insert(next_sums.end(), sums, sums + m);
       continue;
     }
     // Two daughters take the next indices; the parent's segment ends at the branch point.
@@ -193,12 +227,18 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
       child.tree = parent.tree;
       child.type = parent.type;
       child.order = order;
+      child.evidence = parent.evidence;  // and its parent's sums
       a.cones.push_back(child);
       daughters.push_back(index);
+      if (m) daughter_sums.insert(daughter_sums.end(), sums, sums + m);
     }
   }
   next.insert(next.end(), daughters.begin(), daughters.end());
   a.growing.swap(next);
+  if (m) {
+    next_sums.insert(next_sums.end(), daughter_sums.begin(), daughter_sums.end());
+    a.sums.swap(next_sums);
+  }
   // New stems at the end of the step: Poisson with mean (stem rate) dt, axons then dendrites.
   if (P.axon.stem_rate > 0.0 || P.dendrites.stem_rate > 0.0) {
     core::Rng rng(ctx.seed, core::Stream::kStems, neuron, step);
@@ -207,6 +247,7 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
     for (int k = 0; k < axons; ++k) new_stem(ctx, neuron, soma, kAxonType, step, a);
     for (int k = 0; k < dendrites; ++k) new_stem(ctx, neuron, soma, kDendriteType, step, a);
   }
+  if (m) a.sums.resize(a.growing.size() * m, 0.0);  // the new stems' (empty) sums
 }
 
 double expected_arbour_points(const Scene& scene) {
@@ -257,7 +298,14 @@ struct ConeCounts {
 class ArbourEngine final : public Engine {
  public:
   ArbourEngine(const Scene& scene, Placement&& placement)
-      : scene_(scene), params_(arbour_params(scene)), growth_(growth_params(scene)) {
+      : scene_(scene),
+        params_(arbour_params(scene)),
+        growth_(growth_params(scene)),
+        cues_(make_cues(scene)),
+        guide_(guide_params(scene, cues_.data(), static_cast<int>(cues_.size()))),
+        clock_(decision_clock(scene)),
+        field_(make_reference_field(scene, cues_)),
+        sums_per_cone_(field_ && clock_.sums() ? cues_.size() * core::kSumsPerCue : 0) {
     soma_ = std::move(placement.soma);
     placement = Placement{};
     grid_ = build_cell_grid(soma_grid_geometry(scene), soma_);
@@ -270,7 +318,11 @@ class ArbourEngine final : public Engine {
     });
   }
 
-  void warm_up() override {}
+  void warm_up() override {
+    if (!field_) return;
+    PhaseTimes warmup;  // before the step loop: not part of any step's timings
+    for (std::uint32_t s = 1; s <= scene_.cues.warmup_steps; ++s) field_->advance(s, warmup);
+  }
 
   void save(EngineState& out) override {
     const std::size_t n = soma_.size();
@@ -280,6 +332,7 @@ class ArbourEngine final : public Engine {
     out.exited = stats_.exited;
     out.arbour.clear();
     morphology::append_arbours(arbours_, out.arbour);
+    if (field_) field_->save(out);
   }
 
   void load(const EngineState& in) override {
@@ -290,13 +343,19 @@ class ArbourEngine final : public Engine {
     }
     if (arbours_.size() != soma_.size())
       throw RunError("checkpoint: its arbours are not the scene's neurons");
+    for (const Arbour& a : arbours_)
+      if (!a.sums.empty() && a.sums.size() != a.growing.size() * sums_per_cone_)
+        throw RunError("checkpoint: its growth cones' decision sums are not the scene's");
+    if (field_) field_->load(in);
     stats_.connected = in.connected;
     stats_.exited = in.exited;
   }
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
+    if (field_) field_->advance(scene_.cues.warmup_steps + step, times);
     ScopedPhase phase(times, step, "grow");
-    const ArbourContext ctx = context();
+    ArbourContext ctx = context();
+    if (field_) ctx.steering = {field_.get(), &guide_, clock_.at(step), sums_per_cone_};
     const ConeCounts c = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, soma_.size()), ConeCounts{},
         [&](const tbb::blocked_range<std::size_t>& r, ConeCounts acc) {
@@ -322,8 +381,15 @@ class ArbourEngine final : public Engine {
     stats_.growing = c.growing_neurons;
     stats_.connected += c.soma;
     stats_.exited += c.exited;
+    stats_.particles = field_ ? field_->particles() : 0;
     return stats_;
   }
+
+  void particles(std::vector<core::Vec3>& pos, std::vector<std::uint16_t>& cue) override {
+    if (field_) field_->snapshot(pos, cue);
+  }
+
+  std::string note() const override { return field_ ? field_->note() : std::string(); }
 
   void tips(std::vector<core::Vec3>& out) override {
     out.resize(soma_.size());
@@ -352,12 +418,14 @@ class ArbourEngine final : public Engine {
       a.cone_of.shrink_to_fit();
       a.step_of.shrink_to_fit();
       std::vector<std::uint32_t>().swap(a.growing);
+      std::vector<double>().swap(a.sums);
     });
     out = std::move(arbours_);
   }
 
   std::size_t bytes() const override {
-    std::size_t b = grid_.bytes() + soma_.capacity() * sizeof(core::Vec3) + arbours_.capacity() * sizeof(Arbour);
+    std::size_t b = (field_ ? field_->bytes() : 0) + grid_.bytes() + soma_.capacity() * sizeof(core::Vec3) +
+                    arbours_.capacity() * sizeof(Arbour);
     for (const Arbour& a : arbours_) b += a.bytes();
     return b;
   }
@@ -370,6 +438,11 @@ class ArbourEngine final : public Engine {
   const Scene& scene_;
   ArbourParams params_;
   core::GrowthParams growth_;
+  std::vector<core::CueParams> cues_;
+  core::GuideParams guide_;
+  DecisionClock clock_;
+  std::unique_ptr<CueField> field_;  // null for direct guidance
+  std::size_t sums_per_cone_;
   std::vector<core::Vec3> soma_;  // by id
   CellGrid grid_;
   core::CellGridView view_{};

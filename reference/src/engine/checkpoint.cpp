@@ -25,10 +25,12 @@ std::string scene_hash(const Scene& scene) { return sha256_hex(scene_to_json(sce
 namespace {
 
 // Format 2 added the sums of the open decision interval (EngineState::guidance); format 3
-// the arbours (EngineState::arbour).
-constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '3'};
+// the arbours (EngineState::arbour); format 4 the growth cones' own decision sums (cue
+// steering of arbours).
+constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '4'};
 constexpr char kMagicFormat1[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '1'};
 constexpr char kMagicFormat2[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '2'};
+constexpr char kMagicFormat3[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '3'};
 constexpr std::uint32_t kByteOrder = 0x01020304;
 
 static_assert(sizeof(core::Vec3) == 24 && std::is_trivially_copyable_v<core::Vec3>);
@@ -213,11 +215,13 @@ RunCheckpoint read_checkpoint(const fs::path& path) {
   Reader in(path);
   char magic[sizeof kMagic];
   in.bytes(magic, sizeof magic);
-  const bool format1 = std::memcmp(magic, kMagicFormat1, sizeof kMagic) == 0;
-  if (format1 || std::memcmp(magic, kMagicFormat2, sizeof kMagic) == 0)
+  int earlier = 0;
+  for (const auto& [old, format] : {std::pair{kMagicFormat1, 1}, std::pair{kMagicFormat2, 2}, std::pair{kMagicFormat3, 3}})
+    if (std::memcmp(magic, old, sizeof kMagic) == 0) earlier = format;
+  if (earlier)
     throw RunError(fmt::format("the checkpoint {} was written by an earlier version of axonguide (checkpoint format {}); "
                                "this version cannot resume it: run again with --force to start over",
-                               path.string(), format1 ? 1 : 2));
+                               path.string(), earlier));
   if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) in.bad("not an axonguide checkpoint");
   if (in.pod<std::uint32_t>() != kByteOrder) in.bad("written on a machine of another byte order");
   RunCheckpoint c;

@@ -1,4 +1,5 @@
 #include "axonguide/model/arbours.hpp"
+#include "axonguide/model/steering.hpp"
 
 #include <cmath>
 
@@ -140,12 +141,15 @@ json write_arbour_keys(const ArbourKeys& a) {
 
 void check_arbours(const Scene& s) {
   if (!s.arbours) return;
-  if (s.guidance.model != GuidanceModel::kDirect || s.signalling())
-    throw InputError(fmt::format(
-        "scene: arbours with guidance.model = \"{}\"{}: growth cones of arbours wander and branch, but steering them "
-        "by cues is not built yet (docs/methods.md §2.12); use guidance.model \"direct\" and the constant growth "
-        "model",
-        name_of(s.guidance.model), s.signalling() ? " and the signalling growth model" : ""));
+  if (s.signalling())
+    throw InputError(
+        "scene: arbours with the signalling growth model: an arbour's cones elongate by the BESTL rule "
+        "(arbours.*.v0, F), and the signalling cone's own growth rate is not built for them (docs/methods.md §2.12); "
+        "use the constant growth model");
+  if (modulates_growth(s))
+    fail_key("axons.growth_modulation", s.axons.growth_modulation,
+             "0 in an arbour scene: an arbour's cones elongate by the BESTL rule (arbours.*.v0, F), which growth-rate "
+             "modulation is not built for");
   if (s.arbours->slab > 0.0 && s.neurons.shape != RegionShape::kDisc)
     fail_key("arbours.slab", s.arbours->slab,
              "a growth layer belongs to a culture: neurons.region.shape \"disc\" (or slab 0)");

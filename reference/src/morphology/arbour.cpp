@@ -122,6 +122,7 @@ void append_arbours(const std::vector<Arbour>& arbours, std::vector<std::uint8_t
       put(out, c.type);
       put(out, c.order);
       put(out, c.status);
+      put(out, c.evidence);
     }
     put<std::uint64_t>(out, a.trees.size());
     for (const Tree& t : a.trees) {
@@ -131,6 +132,7 @@ void append_arbours(const std::vector<Arbour>& arbours, std::vector<std::uint8_t
       put_array(out, t.by_order);
     }
     put_array(out, a.growing);
+    put_array(out, a.sums);
   }
 }
 
@@ -161,6 +163,9 @@ std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
       k.type = c.get<std::uint8_t>();
       k.order = c.get<std::uint8_t>();
       k.status = c.get<ConeStatus>();
+      const auto evidence = c.get<std::uint8_t>();
+      if (evidence > 1) throw std::runtime_error("checkpoint: a cone's evidence flag is not 0 or 1");
+      k.evidence = evidence == 1;
     }
     const auto trees = c.get<std::uint64_t>();
     if (trees > in.size()) throw std::runtime_error("checkpoint: more trees than bytes");
@@ -172,6 +177,7 @@ std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
       c.get_array(t.by_order);
     }
     c.get_array(a.growing);
+    c.get_array(a.sums);
     for (const std::uint32_t k : a.cone_of)
       if (k >= a.cones.size()) throw std::runtime_error("checkpoint: a point of a cone that does not exist");
     for (const std::uint32_t k : a.growing)

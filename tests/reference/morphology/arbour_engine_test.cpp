@@ -6,6 +6,9 @@
 #include <fstream>
 #include <set>
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include "axonguide/engine/arbour_engine.hpp"
 #include "axonguide/engine/checkpoint.hpp"
 #include "axonguide/io/swc.hpp"
@@ -164,6 +167,136 @@ TEST(arbours, ACheckpointCarriesTheArbours) {
   EXPECT_EQ(test::output_hashes(out.path()), want);
 }
 
+// Cue-steered arbours (the axons' continuum steering, core/guide.hpp, for every cone): a
+// small arbour scene in a ball with one attractant, for each field and both decision rules.
+Scene steered_scene(const char* field, const char* decision, std::uint64_t seed) {
+  return parse_scene(fmt::format(R"({{"seed": {}, "steps": 30, "dt": 0.5,
+      "neurons": {{"count": 40, "soma_radius": 0.25, "region": {{"radius": 8}}}},
+      "guidance": {{"model": "snr", "decision": "{}", "integration_time": 2}},
+      "cues": {{"field": "{}", "sources": [{{"kind": "attractant", "position": [6, 0, 0]}}]}},
+      "arbours": {{"axon": {{"B": 2, "v0": 0.3, "tau": 10, "persistence_length": 20}},
+                   "dendrites": {{"B": 1, "v0": 0.1, "stem_rate": 0.2}}}},
+      "output": {{"paths": true, "swc": true, "frames_every": 10}}}})",
+                                 seed, decision, field),
+                     "steered.json")
+      .scene;
+}
+
+TEST(arbours, CueSteeredConesOnOneTwoAndSevenThreads) {
+  for (const char* field : {"analytic", "grid", "particles"})
+    for (const char* decision : {"per_interval", "per_step"}) {
+      const Scene scene = steered_scene(field, decision, 3);
+      const auto one = test::run_hashes(scene, 1);
+      EXPECT_EQ(test::run_hashes(scene, 2), one) << field << " " << decision;
+      EXPECT_EQ(test::run_hashes(scene, 7), one) << field << " " << decision;
+    }
+}
+
+// A checkpoint in the middle of a decision interval (T = 4 steps, saved after step 37)
+// carries the cones' sums and the field: the resumed run gives the uninterrupted bytes.
+TEST(arbours, ACheckpointCarriesTheConesDecisionSums) {
+  for (const char* field : {"analytic", "particles"}) {
+    Scene scene = steered_scene(field, "per_interval", 5);
+    scene.steps = 60;
+    scene.output.checkpoint_every = 37;
+    const auto want = test::run_hashes(scene, 2);
+    test::TempDir dir;
+    RunOptions first;
+    first.on_checkpoint = [&](const RunResult& progress, std::uint32_t step, const EngineState& e) {
+      if (step == 37) write_checkpoint(dir.path(), progress, step, e);
+    };
+    first.stop_requested = [&] { return fs::exists(dir.path() / kCheckpointName); };
+    EXPECT_THROW(run_scene(scene, first), Interrupted);
+    RunCheckpoint c = read_checkpoint(dir.path() / kCheckpointName);
+    ASSERT_EQ(c.step, 37u);
+    RunOptions resumed;
+    resumed.resume = &c;
+    const RunResult r = run_scene(scene, resumed);
+    test::TempDir out;
+    write_outputs(r, out.path(), "test", 2, {});
+    EXPECT_EQ(test::output_hashes(out.path()), want) << field;
+  }
+}
+
+// An earlier checkpoint format (3: arbours without the cones' sums) is refused by name.
+TEST(arbours, AnEarlierCheckpointFormatIsRefusedByName) {
+  test::TempDir dir;
+  std::ofstream(dir.path() / kCheckpointName, std::ios::binary) << "AXGCKPT3" << std::string(4096, '\0');
+  try {
+    read_checkpoint(dir.path() / kCheckpointName);
+    FAIL() << "a format-3 checkpoint was read";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("checkpoint format 3"), std::string::npos) << e.what();
+  }
+}
+
+// The cones climb the gradient: the cosine between an axon terminal's displacement from its
+// soma and the direction from the soma to the attractant exceeds the same scene's under direct guidance (the
+// control: the same seeds, no cue) by more than 4 standard errors of the difference. (The
+// control's own cosine is not 0: the bounds stop the cones that grow outward early.)
+TEST(arbours, CueSteeredAxonsGrowTowardTheAttractant) {
+  const core::Vec3 source{6, 0, 0};
+  auto toward = [&](const Scene& scene) {
+    RunOptions o;
+    const RunResult r = run_scene(scene, o);
+    std::vector<double> v;
+    for (std::size_t i = 0; i < r.arbours.size(); ++i) {
+      const morphology::Arbour& a = r.arbours[i];
+      for (std::size_t c = 0; c < a.cones.size(); ++c) {
+        const morphology::Cone& k = a.cones[c];
+        if (k.type != morphology::kAxonType || k.status == morphology::ConeStatus::kBranched) continue;
+        const core::Vec3 d = k.tip - r.soma[i], to = source - r.soma[i];
+        const double n = core::norm(d);
+        if (n > 0.5) v.push_back(core::dot(d, to) / (n * core::norm(to)));
+      }
+    }
+    return v;
+  };
+  auto mean_se = [](const std::vector<double>& v) {
+    double m = 0, q = 0;
+    for (double x : v) m += x;
+    m /= static_cast<double>(v.size());
+    for (double x : v) q += (x - m) * (x - m);
+    return std::pair{m, std::sqrt(q / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()))};
+  };
+  Scene cue = steered_scene("analytic", "per_interval", 11);
+  cue.neurons.count = 200;
+  cue.steps = 60;
+  Scene control = cue;
+  control.guidance.model = GuidanceModel::kDirect;
+  const auto [m1, s1] = mean_se(toward(cue));
+  const auto [m0, s0] = mean_se(toward(control));
+  RecordProperty("cue", std::to_string(m1));
+  RecordProperty("control", std::to_string(m0));
+  EXPECT_GT(m1 - m0, 4.0 * std::sqrt(s1 * s1 + s0 * s0)) << "cue " << m1 << " +- " << s1 << ", control " << m0 << " +- " << s0;
+}
+
+// A culture steered by an imposed gradient in its plane (the explant assay's guidance, on
+// every cone): the cones stay in the growth layer, and the same bytes on 1 and 2 threads.
+TEST(arbours, ACueSteeredCultureStaysInItsGrowthLayer) {
+  auto j = nlohmann::json::parse(test::read_file(fs::path(test::source_dir()) / "scenes" / "culture.json"));
+  j["neurons"]["count"] = 40;
+  j["steps"] = 60;
+  j["guidance"] = {{"model", "snr"}, {"noise", "snapshot"}, {"gain", 40}, {"integration_time", 1.0},
+                   {"growth_cone_width", 10}, {"sensing_radius", 10}};
+  j["cues"] = {{"field", "imposed"},
+               {"imposed", {{"profile", "exponential"}, {"direction", {1, 0, 0}}, {"steepness", 0.2}}},
+               {"sources", {{{"kind", "attractant"}, {"position", {0, 0, 0}}, {"kd", 1}}}}};
+  j["output"] = {{"paths", true}};
+  const Scene scene = parse_scene(j.dump(), "steered-culture.json").scene;
+  RunOptions o;
+  const RunResult r = run_scene(scene, o);
+  std::size_t points = 0;
+  for (const morphology::Arbour& a : r.arbours)
+    for (const core::Vec3& p : a.point) {
+      ASSERT_GE(p.z, 0.0);
+      ASSERT_LE(p.z, scene.arbours->slab);
+      ++points;
+    }
+  EXPECT_GT(points, 1000u);
+  EXPECT_EQ(test::run_hashes(scene, 1), test::run_hashes(scene, 2));
+}
+
 // VTK: the last frame holds one polyline per cone that made a point, each from its parent's
 // branch point (a stem from its own first point): points = samples + daughters drawn.
 TEST(arbours, VtkHasOnePolylinePerCone) {
@@ -238,7 +371,10 @@ TEST(arbours, BadParametersAreRefusedWithTheirKeyAndRange) {
 }
 
 TEST(arbours, WhatIsNotBuiltIsRefusedBeforeAnythingRuns) {
-  EXPECT_THROW(parse_scene(R"({"guidance": {"model": "snr"}, "arbours": {}})", "s.json"), InputError);
+  EXPECT_THROW(parse_scene(R"({"units": {"length": "um", "time": "min", "concentration": "nM"},
+      "axons": {"growth_model": "signalling"}, "cues": {"field": "analytic"}, "arbours": {}})", "s.json"), InputError);
+  EXPECT_THROW(parse_scene(R"({"guidance": {"model": "snr"}, "axons": {"growth_modulation": 0.5},
+      "cues": {"sources": [{"position": [0, 0, 0]}]}, "arbours": {}})", "s.json"), InputError);
   EXPECT_THROW(parse_scene(R"({"arbours": {"slab": 2}})", "s.json"), InputError);  // a layer needs a disc
   test::TempDir dir;
   const auto [code, out] = test::run_command(fmt::format("run {}/scenes/culture.json --backend emulated --out {}",

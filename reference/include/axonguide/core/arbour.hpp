@@ -37,6 +37,15 @@ AXG_HDI Vec3 planar_turn(Vec3 h, double c, double s, bool left) {
   return {c * h.x - sn * h.y, sn * h.x + c * h.y, 0.0};
 }
 
+// A culture's cone steers in the substrate's plane: its steered heading's projection on the
+// plane, renormalised (a turn of less than pi/2 from a heading in the plane never leaves it
+// vertical; a vertical one is returned as it is).
+AXG_HDI Vec3 in_plane(Vec3 h) {
+  const double n = std::sqrt(h.x * h.x + h.y * h.y);
+  if (!(n > 0.0)) return h;
+  return {h.x / n, h.y / n, 0.0};
+}
+
 // A stem's heading: a uniform angle in the plane, or a uniform direction.
 AXG_HDI Vec3 stem_heading(bool planar, Rng& rng) {
   if (planar) {

@@ -97,9 +97,9 @@ AXG_HDI void mean_samples(const double* sums, std::uint32_t count, int cue_count
 
 // The stage for axon `neuron` at a step standing at `d` in its interval; returns the
 // signalling step's status (kOk without the model), which the engine reports for the lowest
-// failing neuron id.
+// failing neuron id. An arbour's growth cone passes its core::cone_key as `neuron`.
 AXG_HDI SignallingStep guide_axon(const GuideParams& p, const CueSample* samples, const Vec3* pull, GuidedAxon a,
-                                  std::uint32_t neuron, const Decision& d) {
+                                  std::uint64_t neuron, const Decision& d) {
   if (a.sums) add_samples(a.sums, samples, pull, p.cue_count, d.open);
   if (d.decide) {
     Steered st;

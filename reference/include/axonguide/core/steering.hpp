@@ -102,7 +102,7 @@ AXG_HDI Vec3 turn(Vec3 h, Vec3 u, bool toward, const SteerParams& p) {
 // decision gradient, variance sum_k C_k V / (5m) per axis (three normal deviates from the
 // decision stream). `along` is the z-score of D along h.
 AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
-                            const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t decision) {
+                            const SteerParams& p, std::uint64_t seed, std::uint64_t neuron, std::uint32_t decision) {
   Vec3 d{0.0, 0.0, 0.0};
   double variance = 0.0;  // of D per axis
   bool any = false;
@@ -140,7 +140,7 @@ AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* c
 
 // The combined evidence of every detected cue (see the top of this file).
 AXG_HDI Steered snr_steer(Vec3 h, const CueSample* samples, const CueParams* cues, int cue_count, const SenseParams& sp,
-                          const SteerParams& p, std::uint64_t seed, std::uint32_t neuron, std::uint32_t decision) {
+                          const SteerParams& p, std::uint64_t seed, std::uint64_t neuron, std::uint32_t decision) {
   if (p.noise == NoiseForm::kCount) return count_steer(h, samples, cues, cue_count, sp, p, seed, neuron, decision);
   Vec3 e{0.0, 0.0, 0.0};
   double along = 0.0;
@@ -179,9 +179,10 @@ AXG_HDI Vec3 vector_sum_turn(Vec3 h, Vec3 pull, const SteerParams& p) {
 }
 
 // Steers one axon; samples and pulls come from the field (particles.hpp, sensing.hpp,
-// stencil.hpp). Cues outside their detection window are ignored.
+// stencil.hpp). Cues outside their detection window are ignored. `neuron` keys the
+// decision's draws: an axon's neuron id, or a growth cone's core::cone_key (arbours).
 AXG_HDI Steered steer_axon(Vec3 h, const CueSample* samples, const Vec3* pull, const CueParams* cues, int cue_count,
-                           const SenseParams& sp, const SteerParams& p, std::uint64_t seed, std::uint32_t neuron,
+                           const SenseParams& sp, const SteerParams& p, std::uint64_t seed, std::uint64_t neuron,
                            std::uint32_t decision) {
   if (p.model == GuidanceModel::kSnr) return snr_steer(h, samples, cues, cue_count, sp, p, seed, neuron, decision);
   if (p.model == GuidanceModel::kVectorSum || p.model == GuidanceModel::kSourceVectorSum) {

@@ -37,6 +37,10 @@ struct Cone {
   std::uint8_t type = kAxonType;
   std::uint8_t order = 0;       // centrifugal order (255 at most)
   ConeStatus status = ConeStatus::kGrowing;
+  // Cue steering over decision intervals: whether the cone holds the open interval's sums
+  // (Arbour::sums) from its start. A stem born inside an interval steers from the next one;
+  // a daughter inherits its parent's sums and this flag.
+  bool evidence = false;
 };
 
 struct Tree {
@@ -53,11 +57,14 @@ struct Arbour {
   std::vector<Cone> cones;             // by index
   std::vector<Tree> trees;             // by index
   std::vector<std::uint32_t> growing;  // the growing cones, in index order
+  // Cue steering over decision intervals: the open interval's sums of each growing cone, in
+  // `growing` order, core::kSumsPerCue per cue (empty without them).
+  std::vector<double> sums;
 
   std::size_t bytes() const {
     return point.capacity() * sizeof(core::Vec3) + cone_of.capacity() * 4 + step_of.capacity() * 4 +
            cones.capacity() * sizeof(Cone) +
-           trees.capacity() * sizeof(Tree) + growing.capacity() * 4;
+           trees.capacity() * sizeof(Tree) + growing.capacity() * 4 + sums.capacity() * sizeof(double);
   }
 };
 

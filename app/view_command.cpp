@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <optional>
 #include <sstream>
 
@@ -173,54 +172,56 @@ std::string import_map(const ViewerFiles& v) {
 }
 
 // An arbour run's paths.csv as segments: add(owner, a, b, step_a, step_b, type, order) for
-// each, cone by cone. A cone starts at its parent's last point (the point it branched at),
-// a stem at its own first point; a parent comes before its daughters in the file (cones are
-// numbered by the tree). Above kMaxPathPoints rows, every k-th point of a cone is kept,
-// and every cone's last (the page says so).
+// each. A neuron's k-th row is its SWC sample k + 2, and each row names the sample it hangs
+// on (parent_sample; 1, the soma, draws no segment), which comes before it: a cone's
+// previous point, or the branch point a cone starts from. Above kMaxPathPoints rows, every
+// k-th row of a neuron is kept, and every cone's first and last (the page says so); a row
+// left out passes its segment on to the next kept row below it.
 template <class Add>
 void add_arbour_segments(const Csv& paths, std::size_t n, std::vector<std::string>& notes, Add&& add) {
-  const int c_id = paths.col("id"), c_cone = paths.col("cone"), c_parent = paths.col("parent"),
-            c_type = paths.col("type"), c_order = paths.col("order"), c_step = paths.col("step"), c_x = paths.col("x");
-  if (std::min({c_id, c_parent, c_type, c_order, c_step, c_x}) < 0 || c_x + 2 >= static_cast<int>(paths.header.size()))
-    paths.refuse(0, "an arbour paths.csv has the columns id,cone,parent,type,order,step,x,y,z");
+  const int c_id = paths.col("id"), c_cone = paths.col("cone"), c_type = paths.col("type"),
+            c_order = paths.col("order"), c_step = paths.col("step"), c_x = paths.col("x"),
+            c_parent = paths.col("parent_sample");
+  if (std::min({c_id, c_type, c_order, c_step, c_x, c_parent}) < 0 || c_x + 2 >= static_cast<int>(paths.header.size()))
+    paths.refuse(0, "an arbour paths.csv has the columns id,cone,parent,type,order,step,x,y,z,parent_sample");
   const std::size_t stride = (paths.rows.size() + kMaxPathPoints - 1) / kMaxPathPoints;
   if (stride > 1)
-    notes.push_back(fmt::format("paths thinned: {} points, every {}th point of a cone kept (and each cone's last)",
+    notes.push_back(fmt::format("paths thinned: {} points, every {}th point kept (and each cone's first and last)",
                                 paths.rows.size(), stride));
-  struct End {
+  struct Drawn {
     float p[3];
     float step;
   };
-  std::map<long long, End> last;  // this neuron's cones' last points, by cone
-  long long neuron = -1, cone = -1;
-  End prev{};
-  bool have_prev = false;
-  std::size_t in_cone = 0;
+  std::vector<Drawn> drawn;        // this neuron's samples (index: sample id - 2) as drawn
+  std::vector<std::int64_t> from;  // the kept sample each sample's segments start from (-1: the soma)
+  long long neuron = -1;
+  std::size_t first_row = 0;
+  auto cell = [&](std::size_t k, int c) -> const std::string& { return paths.rows[k][static_cast<std::size_t>(c)]; };
   for (std::size_t k = 0; k < paths.rows.size(); ++k) {
     const long long id = paths.integer(k, c_id, 0, static_cast<long long>(n) - 1);
-    const long long c = paths.integer(k, c_cone, 0, 4294967295LL);
-    const End here{{static_cast<float>(paths.number(k, c_x)), static_cast<float>(paths.number(k, c_x + 1)),
-                    static_cast<float>(paths.number(k, c_x + 2))},
-                   static_cast<float>(paths.integer(k, c_step, 0, 4294967295LL))};
+    if (id != neuron) drawn.clear(), from.clear(), neuron = id, first_row = k;
+    const long long sample = static_cast<long long>(k - first_row) + 2;
+    const long long parent = paths.integer(k, c_parent, 1, 4294967295LL);
+    if (parent >= sample) paths.refuse(k, fmt::format("sample {} is listed before its parent sample {}", sample, parent));
+    const Drawn here{{static_cast<float>(paths.number(k, c_x)), static_cast<float>(paths.number(k, c_x + 1)),
+                      static_cast<float>(paths.number(k, c_x + 2))},
+                     static_cast<float>(paths.integer(k, c_step, 0, 4294967295LL))};
     const auto type = static_cast<std::uint8_t>(paths.integer(k, c_type, 2, 3));
     const auto order = static_cast<std::uint8_t>(paths.integer(k, c_order, 0, 255));
-    if (id != neuron) last.clear(), neuron = id, cone = -1;
-    if (c != cone) {  // a cone's first point: from its parent's branch point, if it has one
-      const long long parent = paths.integer(k, c_parent, -1, 4294967295LL);
-      const auto it = parent < 0 ? last.end() : last.find(parent);
-      if (parent >= 0 && it == last.end()) paths.refuse(k, fmt::format("cone {} comes before its parent {}", c, parent));
-      have_prev = it != last.end();
-      if (have_prev) prev = it->second;
-      cone = c, in_cone = 0;
+    const bool cone_first = k == first_row || cell(k - 1, c_cone) != cell(k, c_cone);
+    const bool cone_last = k + 1 == paths.rows.size() || cell(k + 1, c_id) != cell(k, c_id) ||
+                           cell(k + 1, c_cone) != cell(k, c_cone);
+    const std::int64_t start = parent == 1 ? -1 : from[static_cast<std::size_t>(parent - 2)];
+    drawn.push_back(here);
+    if ((k - first_row) % stride != 0 && !cone_first && !cone_last) {
+      from.push_back(start);  // left out: its children draw from where it would have
+      continue;
     }
-    const bool cone_last = k + 1 == paths.rows.size() || paths.rows[k + 1][static_cast<std::size_t>(c_id)] !=
-                                                              paths.rows[k][static_cast<std::size_t>(c_id)] ||
-                           paths.rows[k + 1][static_cast<std::size_t>(c_cone)] !=
-                               paths.rows[k][static_cast<std::size_t>(c_cone)];
-    if (in_cone++ % stride != 0 && !cone_last) continue;
-    if (have_prev) add(static_cast<std::uint32_t>(id), prev.p, here.p, prev.step, here.step, type, order);
-    prev = here, have_prev = true;
-    last[c] = here;
+    if (start >= 0) {
+      const Drawn& a = drawn[static_cast<std::size_t>(start)];
+      add(static_cast<std::uint32_t>(id), a.p, here.p, a.step, here.step, type, order);
+    }
+    from.push_back(sample - 2);
   }
 }
 
@@ -294,9 +295,9 @@ int cmd_view(const std::string& dir_name) {
   // else one straight segment from the soma to the tip. Each vertex carries the step at
   // which the axon reached it; the shader hides fragments beyond the slider's time, so a
   // segment grows continuously (one segment per axon is enough for a straight axon). An
-  // arbour run's paths.csv (id,cone,parent,type,order,step,x,y,z) gives every cone's
-  // points: each cone is drawn from its parent's last point (its branch point), and each
-  // segment carries its neurite type and centrifugal order, to colour by.
+  // arbour run's paths.csv (id,cone,parent,type,order,step,x,y,z,parent_sample) gives every
+  // point and the SWC sample it hangs on: each segment is drawn from there, and carries its
+  // neurite type and centrifugal order, to colour by.
   std::vector<float> seg_pos, seg_step;
   std::vector<std::uint32_t> seg_owner;
   std::vector<std::uint8_t> seg_type, seg_order;

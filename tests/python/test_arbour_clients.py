@@ -32,6 +32,7 @@ def out(tmp_path_factory):
     scene = json.loads((SOURCE / "scenes" / "culture.json").read_text())
     scene["neurons"]["count"] = 24
     scene["steps"] = 96  # two days
+    scene["arbours"]["axon"]["lateral_rate"] = 0.001  # per um per h: branch points along the path too
     scene["output"] = {"swc": True, "sonata": True}
     (root / "scene.json").write_text(json.dumps(scene))
     o = root / "out"

@@ -3,6 +3,7 @@
 #include "axonguide/engine/arbour_engine.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -29,6 +30,7 @@ using morphology::ConeStatus;
 using morphology::kAxonType;
 using morphology::kDendriteType;
 using morphology::kNoCone;
+using morphology::kNoPoint;
 using morphology::Tree;
 
 namespace {
@@ -105,6 +107,101 @@ void steer_cone(const ArbourSteering& st, bool planar, std::uint64_t key, core::
   const core::GuidedAxon cone{&c.heading, nullptr, nullptr, 0.0, st.sums_per_cone ? sums : nullptr};
   core::guide_axon(*st.guide, samples, pull, cone, key, d);
   if (planar) c.heading = core::in_plane(c.heading);
+}
+
+// Lateral (interstitial) branches of one neuron at the end of a step: per neurite type,
+// Poisson(lateral_rate x L x dt) new cones, L the type's path length grown so far, each
+// starting where a uniform draw along the type's sampled path falls: at the point that ends
+// the segment it falls in, or, when it falls in a growing cone's stretch since its last
+// point, at that cone's tip, which then makes a point (a numerical choice: sample_length
+// sets how far from the drawn place a branch starts). Draws on (seed, kLateral, neuron,
+// step); each new cone's rate factor and heading on (seed, kConeBirth, cone, 0).
+void lateral_branches(const ArbourContext& ctx, std::uint32_t neuron, std::uint32_t step, Arbour& a) {
+  const ArbourParams& P = *ctx.params;
+  double length[2] = {0.0, 0.0};  // axon, dendrites: the path grown
+  for (const Cone& c : a.cones) length[c.type == kAxonType ? 0 : 1] += c.length;
+  const double mean[2] = {P.axon.lateral_rate * length[0] * ctx.dt, P.dendrites.lateral_rate * length[1] * ctx.dt};
+  if (!(mean[0] > 0.0) && !(mean[1] > 0.0)) return;
+  core::Rng rng(ctx.seed, core::Stream::kLateral, neuron, step);
+  const int events[2] = {poisson(mean[0], rng.uniform()), poisson(mean[1], rng.uniform())};
+  if (events[0] == 0 && events[1] == 0) return;
+  thread_local std::vector<std::uint32_t> last, before;
+  for (int t = 0; t < 2; ++t) {
+    const NeuriteParams& p = t == 0 ? P.axon : P.dendrites;
+    const std::uint8_t type = t == 0 ? kAxonType : kDendriteType;
+    for (int e = 0; e < events[t]; ++e) {
+      // The type's sampled path: each point's segment from the point before it (its cone's
+      // previous point, or its branch point; none for a stem's first point), in the order
+      // growth made them, then each growing cone's stretch from its last point to its tip.
+      last.assign(a.cones.size(), kNoPoint);
+      before.assign(a.point.size(), kNoPoint);
+      double total = 0.0;
+      for (std::size_t i = 0; i < a.point.size(); ++i) {
+        const std::uint32_t c = a.cone_of[i];
+        const Cone& cone = a.cones[c];
+        std::uint32_t b = last[c];
+        if (b == kNoPoint && cone.parent != kNoCone) b = cone.attach != kNoPoint ? cone.attach : last[cone.parent];
+        before[i] = b;
+        last[c] = static_cast<std::uint32_t>(i);
+        if (cone.type == type && b != kNoPoint) total += core::norm(a.point[i] - a.point[b]);
+      }
+      // Where a cone's stretch since its last point starts: that point, or, before it made
+      // one, the point it started from (its branch point).
+      auto start_of = [&](std::uint32_t c) {
+        const Cone& cone = a.cones[c];
+        if (last[c] != kNoPoint || cone.parent == kNoCone) return last[c];
+        return cone.attach != kNoPoint ? cone.attach : last[cone.parent];
+      };
+      auto tail = [&](std::uint32_t c) {
+        const Cone& cone = a.cones[c];
+        return cone.type == type && cone.unsampled > 0.0 && start_of(c) != kNoPoint
+                   ? core::norm(cone.tip - a.point[start_of(c)])
+                   : 0.0;
+      };
+      for (const std::uint32_t c : a.growing) total += tail(c);
+      if (!(total > 0.0)) break;
+      const double at = total * rng.uniform_co();
+      std::uint32_t where = kNoPoint;
+      double walked = 0.0;
+      for (std::size_t i = 0; i < a.point.size() && where == kNoPoint; ++i)
+        if (a.cones[a.cone_of[i]].type == type && before[i] != kNoPoint &&
+            (walked += core::norm(a.point[i] - a.point[before[i]])) > at)
+          where = static_cast<std::uint32_t>(i);
+      for (std::size_t g = 0; g < a.growing.size() && where == kNoPoint; ++g) {
+        const std::uint32_t c = a.growing[g];
+        const double l = tail(c);
+        if (l > 0.0 && (walked += l) > at) {  // the cone's tip makes a point to branch from
+          a.point.push_back(a.cones[c].tip);
+          a.cone_of.push_back(c);
+          a.step_of.push_back(step);
+          a.cones[c].unsampled = 0.0;
+          before.push_back(start_of(c));
+          where = static_cast<std::uint32_t>(a.point.size() - 1);
+        }
+      }
+      if (where == kNoPoint) continue;  // rounding at the path's end
+      const std::uint32_t owner = a.cone_of[where];
+      const std::uint32_t index = next_index(neuron, a);
+      core::Rng birth(ctx.seed, core::Stream::kConeBirth, core::cone_key(neuron, index), 0);
+      Cone child;
+      child.rate = core::rate_factor(p.geometry.rate_sigma, birth);
+      child.heading =
+          core::lateral_heading(core::normalized(a.point[where] - a.point[before[where]]), p.geometry, birth);
+      child.tip = a.point[where];
+      child.parent = owner;
+      child.attach = where;
+      child.born = child.ended = step;
+      child.tree = a.cones[owner].tree;
+      child.type = type;
+      child.order = a.cones[owner].order == 255 ? 255 : static_cast<std::uint8_t>(a.cones[owner].order + 1);
+      Tree& tree = a.trees[child.tree];
+      if (tree.by_order.size() <= child.order) tree.by_order.resize(child.order + 1u, 0);
+      ++tree.by_order[child.order];
+      ++tree.growing;
+      a.cones.push_back(child);
+      a.growing.push_back(index);
+    }
+  }
 }
 
 }  // namespace
@@ -239,7 +336,9 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
     next_sums.insert(next_sums.end(), daughter_sums.begin(), daughter_sums.end());
     a.sums.swap(next_sums);
   }
-  // New stems at the end of the step: Poisson with mean (stem rate) dt, axons then dendrites.
+  // Lateral branches, then new stems, at the end of the step.
+  if (P.axon.lateral_rate > 0.0 || P.dendrites.lateral_rate > 0.0) lateral_branches(ctx, neuron, step, a);
+  // New stems: Poisson with mean (stem rate) dt, axons then dendrites.
   if (P.axon.stem_rate > 0.0 || P.dendrites.stem_rate > 0.0) {
     core::Rng rng(ctx.seed, core::Stream::kStems, neuron, step);
     const int axons = poisson(P.axon.stem_rate * dt, rng.uniform());
@@ -279,7 +378,12 @@ double expected_arbour_points(const Scene& scene) {
                                                    : o.cone_steps;
       tree_points += std::min(o.cone_steps, sampled);
     }
-    points += stems * (1.0 + tree_points / trees);
+    // Lateral branches (not in the pilot): a tree whose cones elongate at v0 and branch
+    // laterally at rate lambda per length has cosh(sqrt(lambda v0) t) cones at t (n'' =
+    // lambda v0 n), an upper bound with competition (F > 0); its points grow as its cones.
+    const double x = std::sqrt(q->lateral_rate * q->elongation.v0) * static_cast<double>(scene.steps) * scene.dt;
+    const double lateral = x > 0.0 ? 0.5 * (core::pm::exp(x) + core::pm::exp(-x)) : 1.0;
+    points += stems * (1.0 + lateral * tree_points / trees);
   }
   return points;
 }
@@ -311,7 +415,10 @@ class ArbourEngine final : public Engine {
     grid_ = build_cell_grid(soma_grid_geometry(scene), soma_);
     view_ = grid_.view();
     arbours_.resize(soma_.size());
-    restarts_ = params_.axon.stem_rate > 0.0 || params_.dendrites.stem_rate > 0.0;
+    // Stems start at a rate, or lateral branches along the grown path: a neuron without
+    // growing cones may grow again.
+    restarts_ = params_.axon.stem_rate > 0.0 || params_.dendrites.stem_rate > 0.0 || params_.axon.lateral_rate > 0.0 ||
+                params_.dendrites.lateral_rate > 0.0;
     const ArbourContext ctx = context();
     tbb::parallel_for(std::size_t{0}, soma_.size(), [&](std::size_t i) {
       start_arbour(ctx, static_cast<std::uint32_t>(i), soma_[i], arbours_[i]);
@@ -447,7 +554,7 @@ class ArbourEngine final : public Engine {
   CellGrid grid_;
   core::CellGridView view_{};
   std::vector<Arbour> arbours_;
-  bool restarts_ = false;  // stems start at a rate: a neuron without growing cones may grow again
+  bool restarts_ = false;  // stems or lateral branches start at a rate: a neuron without growing cones may grow again
   StepStats stats_;
 };
 

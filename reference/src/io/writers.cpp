@@ -132,18 +132,20 @@ void write_bfs(const RunResult& r, AtomicFile& f) {
   });
 }
 
-// Arbour scenes: every point of every growth cone, neuron by neuron, cone by cone, with
-// the cone's parent cone (-1 for a stem), its type and order, and the step that made it.
+// Arbour scenes: every point of every growth cone, neuron by neuron, cone by cone (the SWC
+// order: a neuron's k-th row is sample k + 2 of morphologies/<id>.swc), with the cone's
+// parent cone (-1 for a stem), its type and order, the step that made it, and the SWC
+// sample the point hangs on (1: the soma; a branch point for a cone's first point).
 void write_arbour_paths(const RunResult& r, AtomicFile& f) {
-  f.write("id,cone,parent,type,order,step,x,y,z\n");
+  f.write("id,cone,parent,type,order,step,x,y,z,parent_sample\n");
   write_rows(f, r.arbours.size(), [&](std::size_t i, fmt::memory_buffer& b) {
     const morphology::Arbour& a = r.arbours[i];
     for (const morphology::ArbourSample& s : morphology::arbour_samples(a)) {
       const core::Vec3 p = canonical(s.pos);
       const std::uint32_t parent = a.cones[s.cone].parent;
-      fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{},{},{},{},{}\n"), i, s.cone,
+      fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{},{},{},{},{},{}\n"), i, s.cone,
                      parent == morphology::kNoCone ? std::int64_t{-1} : std::int64_t{parent}, s.type, s.order, s.step,
-                     p.x, p.y, p.z);
+                     p.x, p.y, p.z, s.parent);
     }
   });
 }

@@ -68,6 +68,7 @@ void read_neurite(const json& j, const std::string& path, NeuriteKeys& n) {
   r.number("taper", n.taper, {0.0, 1.0, true, false});
   read_stems(r, n.stems);
   r.number("stem_rate", n.stem_rate, non_negative());
+  r.number("lateral_rate", n.lateral_rate, non_negative());
   r.finish();
 }
 
@@ -87,7 +88,8 @@ json write_neurite(const NeuriteKeys& n) {
           {"diameter", n.diameter},
           {"taper", n.taper},
           {"stems", n.stems},
-          {"stem_rate", n.stem_rate}};
+          {"stem_rate", n.stem_rate},
+          {"lateral_rate", n.lateral_rate}};
 }
 
 NeuriteParams neurite_params(const NeuriteKeys& k, const Scene& s, bool planar) {
@@ -108,6 +110,7 @@ NeuriteParams neurite_params(const NeuriteKeys& k, const Scene& s, bool planar) 
   double c = 0.0;
   for (const double q : k.stems) p.stems_cdf.push_back(c += q);
   p.stem_rate = k.stem_rate;
+  p.lateral_rate = k.lateral_rate;
   p.diameter = k.diameter;
   p.taper = k.taper;
   return p;

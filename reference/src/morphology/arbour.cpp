@@ -20,10 +20,14 @@ std::vector<ArbourSample> arbour_samples(const Arbour& a) {
     while (c != kNoCone && count[c] == 0) c = a.cones[c].parent;
     return c == kNoCone ? 1u : 2u + first[c] + count[c] - 1u;
   };
+  // The sample id of every point (a lateral branch's first point hangs on its branch point,
+  // which growth made earlier).
+  std::vector<std::uint32_t> sample_of(a.point.size());
   for (std::size_t i = 0; i < a.point.size(); ++i) {
     const std::uint32_t c = a.cone_of[i];
     const Cone& cone = a.cones[c];
     const std::uint32_t k = fill[c]++;
+    sample_of[i] = 2u + first[c] + k;
     ArbourSample& s = out[first[c] + k];
     s.pos = a.point[i];
     s.cone = c;
@@ -31,7 +35,10 @@ std::vector<ArbourSample> arbour_samples(const Arbour& a) {
     s.order = cone.order;
     const bool stem = cone.parent == kNoCone;
     s.step = a.step_of[i];
-    s.parent = k > 0 ? 2u + first[c] + k - 1u : stem ? 1u : last_sample(cone.parent);
+    s.parent = k > 0                         ? 2u + first[c] + k - 1u
+               : stem                        ? 1u
+               : cone.attach != kNoPoint     ? sample_of[cone.attach]
+                                             : last_sample(cone.parent);
   }
   return out;
 }
@@ -116,6 +123,7 @@ void append_arbours(const std::vector<Arbour>& arbours, std::vector<std::uint8_t
       put(out, c.length);
       put(out, c.unsampled);
       put(out, c.parent);
+      put(out, c.attach);
       put(out, c.born);
       put(out, c.ended);
       put(out, c.tree);
@@ -157,6 +165,7 @@ std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
       k.length = c.get<double>();
       k.unsampled = c.get<double>();
       k.parent = c.get<std::uint32_t>();
+      k.attach = c.get<std::uint32_t>();
       k.born = c.get<std::uint32_t>();
       k.ended = c.get<std::uint32_t>();
       k.tree = c.get<std::uint16_t>();
@@ -183,8 +192,9 @@ std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
     for (const std::uint32_t k : a.growing)
       if (k >= a.cones.size()) throw std::runtime_error("checkpoint: a growing cone that does not exist");
     for (const Cone& k : a.cones)
-      if (k.tree >= a.trees.size() || (k.parent != kNoCone && k.parent >= a.cones.size()))
-        throw std::runtime_error("checkpoint: a cone of a tree or parent that does not exist");
+      if (k.tree >= a.trees.size() || (k.parent != kNoCone && k.parent >= a.cones.size()) ||
+          (k.attach != kNoPoint && (k.attach >= a.point.size() || a.cone_of[k.attach] != k.parent)))
+        throw std::runtime_error("checkpoint: a cone of a tree, parent or branch point that does not exist");
   }
   if (!c.done()) throw std::runtime_error("checkpoint: bytes after the arbours");
   return out;

@@ -53,6 +53,9 @@ rc::Gen<Scene> gen_arbour_scene() {
       if (*rc::gen::arbitrary<bool>()) n->persistence_length = *rc::gen::inRange(1, 100);
       n->stems = {0.25, 0.5, 0.25};
       n->stem_rate = *rc::gen::inRange(0, 5) / 10.0;
+      // Lateral branching grows a tree as cosh(sqrt(lambda v0) T): lambda v0 T^2 of 0, 1 or 4.
+      const double horizon = s.steps * s.dt, k = *rc::gen::element(0.0, 0.0, 1.0, 4.0);
+      n->lateral_rate = n->v0 > 0.0 ? k / (n->v0 * horizon * horizon) : 0.1 * k;
     }
     s.arbours = a;
     s.output.swc = true;
@@ -100,14 +103,21 @@ RC_GTEST_PROP(arbours, EverySwcIsATreeWithParentsFirst, ()) {
       if (s[j].parent > 1) RC_ASSERT(s[s[j].parent - 2].type == s[j].type);  // a neurite never changes type
       RC_ASSERT(s[j].step <= scene.steps);
     }
-    // The cones are numbered by the tree: a daughter after its parent, born when it branched.
-    for (std::size_t c = 0; c < r.arbours[i].cones.size(); ++c) {
-      const morphology::Cone& k = r.arbours[i].cones[c];
+    // The cones are numbered by the tree: a daughter after its parent, born when it branched;
+    // a lateral branch after the cone whose point it starts from, made before it was born.
+    const morphology::Arbour& a = r.arbours[i];
+    for (std::size_t c = 0; c < a.cones.size(); ++c) {
+      const morphology::Cone& k = a.cones[c];
       if (k.parent == morphology::kNoCone) continue;
       RC_ASSERT(k.parent < c);
-      RC_ASSERT(r.arbours[i].cones[k.parent].status == morphology::ConeStatus::kBranched);
-      RC_ASSERT(r.arbours[i].cones[k.parent].ended == k.born);
-      RC_ASSERT(k.order == std::min(255, r.arbours[i].cones[k.parent].order + 1));
+      if (k.attach == morphology::kNoPoint) {
+        RC_ASSERT(a.cones[k.parent].status == morphology::ConeStatus::kBranched);
+        RC_ASSERT(a.cones[k.parent].ended == k.born);
+      } else {
+        RC_ASSERT(a.cone_of[k.attach] == k.parent);
+        RC_ASSERT(a.step_of[k.attach] <= k.born);
+      }
+      RC_ASSERT(k.order == std::min(255, a.cones[k.parent].order + 1));
     }
     const morphology::Morphology m = morphology::parse_swc(swc_text(r, i), "neuron.swc");
     RC_ASSERT(m.samples.size() == s.size() + 1);
@@ -146,6 +156,7 @@ TEST(arbours, NeuronLengthIsTheAxonsPathLength) {
 TEST(arbours, ACheckpointCarriesTheArbours) {
   Scene scene = culture();
   scene.neurons.count = 60;
+  scene.arbours->axon.lateral_rate = 0.0005;  // per um per h: lateral branches too
   scene.output.paths = true;
   scene.output.checkpoint_every = 37;
   const auto want = test::run_hashes(scene, 2);
@@ -297,6 +308,53 @@ TEST(arbours, ACueSteeredCultureStaysInItsGrowthLayer) {
   EXPECT_EQ(test::run_hashes(scene, 1), test::run_hashes(scene, 2));
 }
 
+// Lateral (interstitial) branching alone (B = 0, F = 0, straight cones, no bounds reached):
+// the cones' mean count follows the linear process's exact discrete recursion, n_k =
+// n_(k-1) + lambda dt L_k with L_k = L_(k-1) + v0 dt n_(k-1) (each step every cone moves,
+// then Poisson(lambda L dt) branches start along the path), whose limit is
+// cosh(sqrt(lambda v0) T). Every lateral cone's first SWC sample hangs on its branch point.
+TEST(arbours, LateralBranchingFollowsTheLinearProcess) {
+  const double lambda = 0.25, v0 = 1.0, dt = 0.1;
+  const std::uint32_t steps = 40;
+  const Scene scene = parse_scene(fmt::format(R"({{"seed": 8, "steps": {}, "dt": {},
+      "neurons": {{"soma_radius": 0.01, "region": {{"radius": 60}},
+                  "populations": [{{"count": 3000, "center": [0, 0, 0], "radius": 20}}]}},
+      "guidance": {{"model": "direct"}},
+      "arbours": {{"soma_contact": "pass", "sample_length": 0.3,
+                   "axon": {{"B": 0, "v0": {}, "stems": [0, 1], "lateral_rate": {}}}}}}})",
+                                              steps, dt, v0, lambda),
+                                  "lateral.json")
+                          .scene;
+  RunOptions o;
+  const RunResult r = run_scene(scene, o);
+  double sum = 0, sq = 0;
+  std::size_t laterals = 0;
+  for (const morphology::Arbour& a : r.arbours) {
+    const double n = static_cast<double>(a.cones.size());
+    sum += n, sq += n * n;
+    const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(a);
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      const morphology::Cone& c = a.cones[s[j].cone];
+      ASSERT_EQ(c.status, morphology::ConeStatus::kGrowing);  // none stopped: the process is linear
+      if (c.attach == morphology::kNoPoint || (j > 0 && s[j - 1].cone == s[j].cone)) continue;
+      ++laterals;  // its first sample: it hangs on the branch point's sample
+      ASSERT_EQ(s[s[j].parent - 2].pos, a.point[c.attach]);
+    }
+  }
+  const double m = static_cast<double>(r.arbours.size());
+  const double mean = sum / m, se = std::sqrt((sq / m - mean * mean) / (m - 1));
+  double n = 1, length = 0;
+  for (std::uint32_t k = 1; k <= steps; ++k) {
+    length += v0 * dt * n;
+    n += lambda * dt * length;
+  }
+  const double limit = std::cosh(std::sqrt(lambda * v0) * dt * steps);
+  RecordProperty("mean", std::to_string(mean));
+  EXPECT_LT(std::fabs(mean - n) / se, 4.0) << "simulated " << mean << " +- " << se << ", recursion " << n;
+  EXPECT_NEAR(n, limit, 0.1 * limit) << "the recursion at dt = 0.1 is within 10 % of its limit";
+  EXPECT_GT(laterals, 3000u);
+}
+
 // VTK: the last frame holds one polyline per cone that made a point, each from its parent's
 // branch point (a stem from its own first point): points = samples + daughters drawn.
 TEST(arbours, VtkHasOnePolylinePerCone) {
@@ -336,6 +394,7 @@ TEST(arbours, BadParametersAreRefusedWithTheirKeyAndRange) {
       {R"({"arbours": {"axon": {"B": -1}}})", "arbours.axon.B", ">= 0"},
       {R"({"arbours": {"axon": {"v0": -0.5}}})", "arbours.axon.v0", ">= 0"},
       {R"({"arbours": {"dendrites": {"stem_rate": -2}}})", "arbours.dendrites.stem_rate", ">= 0"},
+      {R"({"arbours": {"axon": {"lateral_rate": -0.01}}})", "arbours.axon.lateral_rate", ">= 0"},
       {R"({"arbours": {"axon": {"E": -0.1}}})", "arbours.axon.E", ">= 0"},
       {R"({"arbours": {"dendrites": {"tau": 0}}})", "arbours.dendrites.tau", "> 0"},
       {R"({"arbours": {"axon": {"tau": -3}}})", "arbours.axon.tau", "> 0"},

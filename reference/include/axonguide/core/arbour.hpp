@@ -93,6 +93,16 @@ AXG_HDI void daughter_headings(Vec3 h, const ConeGeometry& g, std::uint64_t seed
   *second = c * h - s * u;
 }
 
+// A lateral (interstitial) branch's heading: the neurite's direction d where it starts,
+// turned by an angle drawn as daughter_angle (the scene's branching angle) to a random side
+// in the plane, or about a random axis perpendicular to d.
+AXG_HDI Vec3 lateral_heading(Vec3 d, const ConeGeometry& g, Rng& rng) {
+  const double a = daughter_angle(g, rng);
+  const double c = pm::cos(a), s = pm::sin(a);
+  if (g.planar) return planar_turn(d, c, s, (rng.word32() & 1u) != 0);
+  return normalized(c * d + s * perpendicular_direction(d, rng));
+}
+
 // A cone's elongation-rate factor, log-normal with mean 1 and coefficient of variation cv
 // (sigma^2 = ln(1 + cv^2)): exp(sigma z - sigma^2 / 2). Exactly 1 for cv = 0.
 AXG_HDI double rate_factor(double sigma, Rng& rng) {

@@ -40,6 +40,7 @@ enum class Stream : std::uint32_t {
   kConeBirth = 15,        // id = growth cone, step = 0: its elongation-rate factor, stem heading and height
   kConeSplit = 16,        // id = growth cone, step = step: the angle and plane between its daughters
   kStems = 17,            // id = neuron, step = step (0: birth): how many stems start (axons, dendrites)
+  kLateral = 18,          // id = neuron, step = step: how many lateral branches start, and where (axons, dendrites)
 };
 
 struct Counter {

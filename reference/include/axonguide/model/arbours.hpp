@@ -6,7 +6,8 @@
 // elongation v0 and F (competition, v0 n^-F), the rate's coefficient of variation between
 // cones, the angle between daughters, the persistence length of the heading's walk, the
 // diameter (with its taper per centrifugal order), how many stems start at birth (a
-// distribution) and at what rate more start afterwards.
+// distribution) and at what rate more start afterwards, and the rate of lateral
+// (interstitial) branches per length of neurite.
 #include <optional>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct NeuriteKeys {
   // Stems: P(k stems at birth) for k = 0, 1, ..., and new stems per neuron per time unit.
   std::vector<double> stems{0.0, 1.0};
   double stem_rate = 0.0;
+  // Lateral (interstitial) branching: new cones start along the neurite's existing path at
+  // this rate per length unit per time unit (0: off), each at a point the path already has.
+  double lateral_rate = 0.0;
 };
 
 struct ArbourKeys {
@@ -63,6 +67,7 @@ struct NeuriteParams {
   core::ConeGeometry geometry;
   std::vector<double> stems_cdf;  // cumulative P(k stems at birth)
   double stem_rate = 0.0;
+  double lateral_rate = 0.0;  // per length unit per time unit
   double diameter = 1.0, taper = 1.0;
 };
 

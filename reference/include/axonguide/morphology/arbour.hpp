@@ -15,6 +15,7 @@
 namespace axg::morphology {
 
 inline constexpr std::uint32_t kNoCone = 0xffffffffu;
+inline constexpr std::uint32_t kNoPoint = 0xffffffffu;
 inline constexpr std::uint8_t kAxonType = 2, kDendriteType = 3;  // SWC types
 
 enum class ConeStatus : std::uint8_t {
@@ -31,6 +32,10 @@ struct Cone {
   double length = 0.0;          // of its segment
   double unsampled = 0.0;       // its path since its last point
   std::uint32_t parent = kNoCone;
+  // A lateral (interstitial) branch: the index in Arbour::point of the parent's point it
+  // starts from; kNoPoint for a stem or a daughter of a branching (which starts from its
+  // parent's last point).
+  std::uint32_t attach = kNoPoint;
   std::uint32_t born = 0;       // the step at whose end it started (0: at the neuron's birth)
   std::uint32_t ended = 0;      // the last step it grew (born until it grows)
   std::uint16_t tree = 0;

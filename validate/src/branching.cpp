@@ -455,6 +455,10 @@ void validate_branching(const Options& o, Report& r) {
              fmt::format("order {:.3f}", order), "0.8 < order < 1.2",
              fmt::format("{:.3f}", std::min(order - 0.8, 1.2 - order))});
   }
+  r.plot("branching_arbours.py", {"branching_guided_arbours.csv", "branching_lateral.csv"}, "branching_arbours.png",
+         "Left (§E): the axon terminals' cosine to the gradient of cue-steered cultures against dt, beside the same "
+         "culture under direct guidance. Right (§F): lateral branching's mean cone count against dt, simulated, the "
+         "exact discrete recursion, and its limit.");
   r.plot("branching.py", {"branching_distribution.csv", "branching_convergence.csv"}, "branching.png",
          "Left: the distribution of terminal segments after 10 bins, simulated (points) against van Pelt's recursion at "
          "the same bins (lines) and its limit (dashed). Right: the recursion's mean against the number of bins, minus "

@@ -89,6 +89,7 @@ std::vector<Row> arbours(const Options& o) {
   if (max_threads > 1) thread_counts.insert(thread_counts.begin(), 1);
   // NETMORPH (Koene et al. 2009): 640,000 axon segments for 992 neurons in 21.9 s, one thread.
   constexpr double kNetmorphSegmentsPerSecond = 640000.0 / 21.9;
+  double direct_seconds = 0;
   for (const int threads : thread_counts) {
     ArbourRun a;
     try {
@@ -110,6 +111,7 @@ std::vector<Row> arbours(const Options& o) {
     emit({"arbours", name + ": growth-cone steps", "axonguide reference", threads, double(n), a.seconds,
           a.cone_steps / a.seconds, "cone-steps/s", 0, "", ""});
     if (threads == max_threads) {
+      direct_seconds = a.seconds;
       emit({"arbours", name + ": stored points", "axonguide reference", threads, a.points, a.seconds,
             a.point_bytes / a.points, "bytes/point", 0, "",
             fmt::format("{:.0f} points of 32 bytes ({} B position, cone, step), vector capacity included",
@@ -117,6 +119,33 @@ std::vector<Row> arbours(const Options& o) {
       emit({"arbours", name + ": SWC writing (morphologies/*.swc)", "axonguide reference", threads, double(n),
             a.swc_seconds, double(n) / a.swc_seconds, "files/s", 0, "", ""});
     }
+  }
+  // The same arbours with every cone steered by the cues (validate branching §E's gradient:
+  // an imposed exponential gradient of 1 % per 10 um, SNR, snapshot noise, T = 1 h), beside
+  // the direct run above on the same machine: the cost of steering.
+  Scene steered = scene;
+  steered.output.swc = false;
+  steered.guidance.model = GuidanceModel::kSnr;
+  steered.guidance.noise = core::NoiseForm::kSnapshot;
+  steered.guidance.gain = 40;
+  steered.guidance.integration_time = 1.0;
+  steered.guidance.growth_cone_width = 10;
+  steered.guidance.sensing_radius = 10;
+  steered.cues.field = FieldKind::kImposed;
+  steered.cues.imposed.direction = {1, 0, 0};
+  steered.cues.imposed.steepness = 1.0;
+  Source attractant;
+  attractant.position = core::Vec3{0, 0, 0};
+  steered.cues.sources = {attractant};
+  try {
+    const ArbourRun a = with_threads(max_threads, [&] { return time_arbours(steered, false); });
+    emit({"arbours", name + ": every cone steered (imposed gradient, SNR, T = 1 h)", "axonguide reference",
+          max_threads, double(n), a.seconds, a.micrometres / a.seconds, "um/s", 0, "",
+          fmt::format("{:.2f}x the direct run's time ({:.2f} s) on the same threads", a.seconds / direct_seconds,
+                      direct_seconds)});
+  } catch (const std::exception& e) {
+    emit(failed_row("arbours", name + ": every cone steered", "axonguide reference", max_threads, double(n), "um/s",
+                    e.what()));
   }
   return rows;
 }

@@ -93,8 +93,8 @@ namespace {
 
 void refuse_arbours(const Scene& s, const char* backend) {
   if (s.arbours)
-    throw RunError(fmt::format("--backend {}: the accelerator's arbour pipeline is not built yet; arbour scenes run on "
-                               "the reference backend (--backend reference)",
+    throw RunError(fmt::format("--backend {}: the accelerator's arbour pipeline is designed (docs/scaling.md §2.6b), "
+                               "not built; arbour scenes run on the reference backend (--backend reference)",
                                backend));
 }
 

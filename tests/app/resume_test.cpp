@@ -212,6 +212,28 @@ TEST(resume, TheAcceleratorsEngineResumesToTheSameBytes) {
   }
 }
 
+// Arbours (issue 41): a culture whose cones steer by an imposed gradient with decisions over 3
+// steps (checkpoints fall inside an interval: the cones' sums are state), with lateral
+// branches, SWC and paths; killed with SIGKILL at every stage and resumed by the command
+// (arbour_engine_test resumes a particle field's state with the cones' sums in process).
+TEST(resume, AKilledArbourRunResumesToTheSameBytes) {
+  json s = json::parse(test::read_file(fs::path(test::source_dir()) / "scenes" / "culture.json"));
+  s["neurons"]["count"] = 40;
+  s["neurons"]["region"]["radius"] = 300;
+  s["steps"] = 24;
+  s["guidance"] = {{"model", "snr"}, {"noise", "snapshot"}, {"gain", 40}, {"integration_time", 1.5},
+                   {"growth_cone_width", 10}, {"sensing_radius", 10}};
+  s["cues"] = {{"field", "imposed"},
+               {"imposed", {{"profile", "exponential"}, {"direction", {1, 0, 0}}, {"steepness", 1.0}}},
+               {"sources", {{{"kind", "attractant"}, {"position", {0, 0, 0}}}}}};
+  s["arbours"]["axon"]["lateral_rate"] = 0.002;
+  s["output"] = {{"checkpoint_every", 4}, {"paths", true}, {"swc", true}};
+  Trial t("culture-steered-lateral", s);
+  for (const char* point : {"placement", "setup", "step 3", "checkpoint 8", "step 13", "output neurons.csv",
+                            "output paths.csv", "checkpoint 20", "manifest"})
+    t.kill_and_resume(point, "reference", "reference");
+}
+
 // kill -9 at random times once the run has claimed its folder (its running manifest is
 // there; the run's own pace decides the stage it is in). A kill before that, while the
 // command starts, leaves nothing to resume: --resume says the folder is not a run's, and

@@ -93,8 +93,8 @@ int poisson(double m, double u) {
 }
 
 // The cue stage of one growing cone (core::guide_axon, the axons' body): its sample, and its
-// decision at the interval's end (kept in the plane in a culture). A cone steers on an interval's sums only when it held
-// them from the interval's start (Cone::evidence).
+// decision at the interval's end (kept in the plane in a culture). A cone steers on an
+// interval's sums only when it held them from the interval's start (Cone::evidence).
 void steer_cone(const ArbourSteering& st, bool planar, std::uint64_t key, core::Vec3 at, Cone& c, double* sums) {
   core::CueSample samples[core::kMaxCues];
   core::Vec3 pull[core::kMaxCues];

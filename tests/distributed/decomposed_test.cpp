@@ -106,7 +106,16 @@ RC_GTEST_PROP(decomposed, PlacementIsTheOneProcessPlacement, ()) {
   } catch (const RunError& e) {
     expected_error = e.what();
   }
-  const distributed::Decomposition d = distributed::decompose(s, ranks);
+  // A rank count whose blocks are narrower than the halo (7 ranks cut a domain 7 x 1 x 1) is
+  // refused before placement, with a message that says so: the refusal is the behaviour.
+  std::optional<distributed::Decomposition> decomposition;
+  try {
+    decomposition = distributed::decompose(s, ranks);
+  } catch (const InputError& e) {
+    RC_ASSERT(std::string(e.what()).find("narrower than the halo") != std::string::npos);
+    RC_SUCCEED("too many ranks for this scene: refused");
+  }
+  const distributed::Decomposition& d = *decomposition;
   std::vector<distributed::RankSomas> kept(static_cast<std::size_t>(ranks));
   std::vector<Vec3> all;
   std::uint64_t redraws = 0;

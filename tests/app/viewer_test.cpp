@@ -41,6 +41,31 @@ const char* kChromiumFlags =
     "--headless=new --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader --disable-background-networking "
     "--disable-component-update --disable-sync --no-first-run --window-size=900,650 --virtual-time-budget=20000";
 
+// A run's page in headless Chromium: the DOM it settles to, and its screenshot's share of
+// pixels that differ from the background and number of colours (tests/app/pixels.py).
+struct RenderedPage {
+  std::string dom;
+  double fraction = 0;
+  int colours = 0;
+  bool shot = false;
+};
+
+RenderedPage render_page(const test::TempDir& tmp, const fs::path& run) {
+  RenderedPage p;
+  const std::string url = "file://" + (run / "view.html").string();
+  p.dom = shell(fmt::format("chromium {} --user-data-dir={} --dump-dom {}", kChromiumFlags,
+                            (tmp.path() / "profile1").string(), url))
+              .text;
+  const fs::path shot = tmp.path() / "shot.png";
+  shell(fmt::format("chromium {} --user-data-dir={} --screenshot={} {}", kChromiumFlags,
+                    (tmp.path() / "profile2").string(), shot.string(), url));
+  p.shot = fs::exists(shot);
+  if (!p.shot) return p;
+  const Out px = shell(fmt::format("/usr/bin/python3 {}/tests/app/pixels.py {}", test::source_dir(), shot.string()));
+  if (std::sscanf(px.text.c_str(), "%lf %d", &p.fraction, &p.colours) != 2) p.colours = -1;
+  return p;
+}
+
 // A small cue run with paths, particle frames and the ParaView files.
 fs::path small_run(const test::TempDir& tmp) {
   std::ofstream(tmp.path() / "scene.json") << R"({"steps": 30, "neurons": {"count": 150, "region": {"radius": 2.9}},
@@ -69,22 +94,14 @@ TEST(viewer, BrowserPageRendersTheSceneWithoutErrors) {
   const fs::path run = small_run(tmp);
   const Out v = shell(fmt::format("{} view {}", test::binary(), run.string()));
   ASSERT_EQ(v.code, 0) << v.text;
-  const std::string url = "file://" + (run / "view.html").string();
-  const Out dom = shell(fmt::format("chromium {} --user-data-dir={} --dump-dom {}", kChromiumFlags,
-                                    (tmp.path() / "profile1").string(), url));
-  EXPECT_NE(dom.text.find("id=\"axg-status\">ready: 150 neurons"), std::string::npos) << dom.text.substr(0, 4000);
-  EXPECT_NE(dom.text.find("id=\"axg-errors\" hidden=\"\"></div>"), std::string::npos) << "page errors: " << dom.text;
-  EXPECT_EQ(dom.text.find("Uncaught"), std::string::npos);
-  const fs::path shot = tmp.path() / "shot.png";
-  shell(fmt::format("chromium {} --user-data-dir={} --screenshot={} {}", kChromiumFlags, (tmp.path() / "profile2").string(),
-                    shot.string(), url));
-  ASSERT_TRUE(fs::exists(shot));
-  const Out px = shell(fmt::format("/usr/bin/python3 {}/tests/app/pixels.py {}", test::source_dir(), shot.string()));
-  double fraction = 0;
-  int colours = 0;
-  ASSERT_EQ(std::sscanf(px.text.c_str(), "%lf %d", &fraction, &colours), 2) << px.text;
-  EXPECT_GT(fraction, 0.05) << "the canvas looks blank";
-  EXPECT_GT(colours, 50) << "too few colours for somas, axons and particles";
+  const RenderedPage page = render_page(tmp, run);
+  EXPECT_NE(page.dom.find("id=\"axg-status\">ready: 150 neurons"), std::string::npos) << page.dom.substr(0, 4000);
+  EXPECT_NE(page.dom.find("id=\"axg-errors\" hidden=\"\"></div>"), std::string::npos) << "page errors: " << page.dom;
+  EXPECT_EQ(page.dom.find("Uncaught"), std::string::npos);
+  ASSERT_TRUE(page.shot);
+  ASSERT_GE(page.colours, 0) << "pixels.py gave no statistics";
+  EXPECT_GT(page.fraction, 0.05) << "the canvas looks blank";
+  EXPECT_GT(page.colours, 50) << "too few colours for somas, axons and particles";
 }
 
 TEST(viewer, PageSaysWhatIsMissing) {
@@ -141,24 +158,16 @@ TEST(viewer, ArbourPageDrawsEveryConeByOrder) {
   ASSERT_GT(rows, 1000u);
   const Out v = shell(fmt::format("{} view {}", test::binary(), run.string()));
   ASSERT_EQ(v.code, 0) << v.text;
-  const std::string url = "file://" + (run / "view.html").string();
-  const Out dom = shell(fmt::format("chromium {} --user-data-dir={} --dump-dom {}", kChromiumFlags,
-                                    (tmp.path() / "profile1").string(), url));
-  EXPECT_NE(dom.text.find(fmt::format("id=\"axg-status\">ready: 40 neurons, {} arbour segments", rows - stems)),
+  const RenderedPage page = render_page(tmp, run);
+  EXPECT_NE(page.dom.find(fmt::format("id=\"axg-status\">ready: 40 neurons, {} arbour segments", rows - stems)),
             std::string::npos)
-      << dom.text.substr(0, 4000);
-  EXPECT_NE(dom.text.find("id=\"axg-errors\" hidden=\"\"></div>"), std::string::npos) << "page errors: " << dom.text;
-  EXPECT_NE(dom.text.find("8+ order"), std::string::npos) << "the order legend";
-  const fs::path shot = tmp.path() / "shot.png";
-  shell(fmt::format("chromium {} --user-data-dir={} --screenshot={} {}", kChromiumFlags, (tmp.path() / "profile2").string(),
-                    shot.string(), url));
-  ASSERT_TRUE(fs::exists(shot));
-  const Out px = shell(fmt::format("/usr/bin/python3 {}/tests/app/pixels.py {}", test::source_dir(), shot.string()));
-  double fraction = 0;
-  int colours = 0;
-  ASSERT_EQ(std::sscanf(px.text.c_str(), "%lf %d", &fraction, &colours), 2) << px.text;
-  EXPECT_GT(fraction, 0.05) << "the canvas looks blank";
-  EXPECT_GT(colours, 50) << "too few colours for arbours coloured by order";
+      << page.dom.substr(0, 4000);
+  EXPECT_NE(page.dom.find("id=\"axg-errors\" hidden=\"\"></div>"), std::string::npos) << "page errors: " << page.dom;
+  EXPECT_NE(page.dom.find("8+ order"), std::string::npos) << "the order legend";
+  ASSERT_TRUE(page.shot);
+  ASSERT_GE(page.colours, 0) << "pixels.py gave no statistics";
+  EXPECT_GT(page.fraction, 0.05) << "the canvas looks blank";
+  EXPECT_GT(page.colours, 50) << "too few colours for arbours coloured by order";
   // A daughter listed before its parent (the file edited, the manifest re-hashed): refused.
   std::istringstream in(test::read_file(run / "paths.csv"));
   std::string line;

@@ -21,6 +21,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from swc_rows import read_swc
 
 BINARY = os.environ.get("AXG_BINARY", "axonguide")
 SOURCE = Path(os.environ.get("AXG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
@@ -38,17 +39,6 @@ def out(tmp_path_factory):
     o = root / "out"
     subprocess.run([BINARY, "run", str(root / "scene.json"), "--out", str(o), "-q"], check=True)
     return o
-
-
-def read_swc(path):
-    rows = []
-    for line in path.read_text().splitlines():
-        if line.startswith("#") or not line.strip():
-            continue
-        c = line.split()
-        assert len(c) == 7, line
-        rows.append((int(c[0]), int(c[1]), float(c[2]), float(c[3]), float(c[4]), float(c[5]), int(c[6])))
-    return rows
 
 
 def pieces(rows):

@@ -12,6 +12,7 @@ import os
 import subprocess
 
 import pytest
+from swc_rows import read_swc
 
 AXONGUIDE = os.environ.get("AXG_BINARY", "axonguide")
 UM_PER_LU = 40.0
@@ -28,17 +29,6 @@ def run(tmp_path_factory):
     with open(out / "neurons.csv") as f:
         neurons = list(csv.DictReader(f))
     return out, neurons
-
-
-def read_swc(path):
-    rows = []
-    for line in path.read_text().splitlines():
-        if line.startswith("#") or not line.strip():
-            continue
-        c = line.split()
-        assert len(c) == 7, line
-        rows.append((int(c[0]), int(c[1]), float(c[2]), float(c[3]), float(c[4]), float(c[5]), int(c[6])))
-    return rows
 
 
 def test_sonata_swc_rules(run):

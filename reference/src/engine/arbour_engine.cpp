@@ -133,17 +133,13 @@ void lateral_branches(const ArbourContext& ctx, std::uint32_t neuron, std::uint3
       // The type's sampled path: each point's segment from the point before it (its cone's
       // previous point, or its branch point; none for a stem's first point), in the order
       // growth made them, then each growing cone's stretch from its last point to its tip.
+      morphology::point_parents(a, before);
       last.assign(a.cones.size(), kNoPoint);
-      before.assign(a.point.size(), kNoPoint);
       double total = 0.0;
       for (std::size_t i = 0; i < a.point.size(); ++i) {
-        const std::uint32_t c = a.cone_of[i];
-        const Cone& cone = a.cones[c];
-        std::uint32_t b = last[c];
-        if (b == kNoPoint && cone.parent != kNoCone) b = cone.attach != kNoPoint ? cone.attach : last[cone.parent];
-        before[i] = b;
-        last[c] = static_cast<std::uint32_t>(i);
-        if (cone.type == type && b != kNoPoint) total += core::norm(a.point[i] - a.point[b]);
+        last[a.cone_of[i]] = static_cast<std::uint32_t>(i);
+        if (a.cones[a.cone_of[i]].type == type && before[i] != kNoPoint)
+          total += core::norm(a.point[i] - a.point[before[i]]);
       }
       // Where a cone's stretch since its last point starts: that point, or, before it made
       // one, the point it started from (its branch point).

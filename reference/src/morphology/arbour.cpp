@@ -7,38 +7,41 @@
 
 namespace axg::morphology {
 
+void point_parents(const Arbour& a, std::vector<std::uint32_t>& out) {
+  std::vector<std::uint32_t> last(a.cones.size(), kNoPoint);  // each cone's last point so far
+  out.assign(a.point.size(), kNoPoint);
+  for (std::size_t i = 0; i < a.point.size(); ++i) {
+    const std::uint32_t c = a.cone_of[i];
+    const Cone& cone = a.cones[c];
+    std::uint32_t b = last[c];
+    // A branched cone made a point when it branched, before its daughters made theirs.
+    if (b == kNoPoint && cone.parent != kNoCone) b = cone.attach != kNoPoint ? cone.attach : last[cone.parent];
+    out[i] = b;
+    last[c] = static_cast<std::uint32_t>(i);
+  }
+}
+
 std::vector<ArbourSample> arbour_samples(const Arbour& a) {
   const std::size_t cones = a.cones.size();
   std::vector<std::uint32_t> count(cones, 0), first(cones + 1, 0);
   for (const std::uint32_t c : a.cone_of) ++count[c];
   for (std::size_t c = 0; c < cones; ++c) first[c + 1] = first[c] + count[c];
   std::vector<ArbourSample> out(a.point.size());
-  std::vector<std::uint32_t> fill(cones, 0);
-  // The sample id of cone c's last point, or, for a cone without points, its parent's (a
-  // branched cone always grew: it branches at the end of a step it grew in).
-  auto last_sample = [&](std::uint32_t c) -> std::uint32_t {
-    while (c != kNoCone && count[c] == 0) c = a.cones[c].parent;
-    return c == kNoCone ? 1u : 2u + first[c] + count[c] - 1u;
-  };
-  // The sample id of every point (a lateral branch's first point hangs on its branch point,
-  // which growth made earlier).
-  std::vector<std::uint32_t> sample_of(a.point.size());
+  std::vector<std::uint32_t> fill(cones, 0), parents, sample_of(a.point.size());
+  point_parents(a, parents);
+  // Samples: the cones in index order, each cone's points in order; a point's parent is
+  // the sample of the point it hangs on (made earlier, so numbered already), or the soma.
   for (std::size_t i = 0; i < a.point.size(); ++i) {
     const std::uint32_t c = a.cone_of[i];
     const Cone& cone = a.cones[c];
-    const std::uint32_t k = fill[c]++;
-    sample_of[i] = 2u + first[c] + k;
-    ArbourSample& s = out[first[c] + k];
+    sample_of[i] = 2u + first[c] + fill[c]++;
+    ArbourSample& s = out[sample_of[i] - 2u];
     s.pos = a.point[i];
     s.cone = c;
     s.type = cone.type;
     s.order = cone.order;
-    const bool stem = cone.parent == kNoCone;
     s.step = a.step_of[i];
-    s.parent = k > 0                         ? 2u + first[c] + k - 1u
-               : stem                        ? 1u
-               : cone.attach != kNoPoint     ? sample_of[cone.attach]
-                                             : last_sample(cone.parent);
+    s.parent = parents[i] == kNoPoint ? 1u : sample_of[parents[i]];
   }
   return out;
 }

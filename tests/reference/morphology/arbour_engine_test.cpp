@@ -152,6 +152,28 @@ TEST(arbours, NeuronLengthIsTheAxonsPathLength) {
   }
 }
 
+// A run interrupted right after it wrote its checkpoint of step `at` into `dir` (an
+// Interrupted thrown, as the command's stop would), and that checkpoint read back.
+RunCheckpoint interrupted_at(const Scene& scene, std::uint32_t at, const fs::path& dir) {
+  RunOptions first;
+  first.on_checkpoint = [&](const RunResult& progress, std::uint32_t step, const EngineState& e) {
+    if (step == at) write_checkpoint(dir, progress, step, e);
+  };
+  first.stop_requested = [&] { return fs::exists(dir / kCheckpointName); };
+  EXPECT_THROW(run_scene(scene, first), Interrupted);
+  return read_checkpoint(dir / kCheckpointName);
+}
+
+// The output hashes of the run resumed from `c` (written on 2 threads).
+std::map<std::string, std::string> resumed_hashes(const Scene& scene, RunCheckpoint& c) {
+  RunOptions resumed;
+  resumed.resume = &c;
+  const RunResult r = run_scene(scene, resumed);
+  test::TempDir out;
+  write_outputs(r, out.path(), "test", 2, {});
+  return test::output_hashes(out.path());
+}
+
 // A checkpoint after step 37 resumes to the uninterrupted bytes.
 TEST(arbours, ACheckpointCarriesTheArbours) {
   Scene scene = culture();
@@ -161,21 +183,10 @@ TEST(arbours, ACheckpointCarriesTheArbours) {
   scene.output.checkpoint_every = 37;
   const auto want = test::run_hashes(scene, 2);
   test::TempDir dir;
-  RunOptions first;
-  first.on_checkpoint = [&](const RunResult& progress, std::uint32_t step, const EngineState& e) {
-    if (step == 37) write_checkpoint(dir.path(), progress, step, e);
-  };
-  first.stop_requested = [&] { return fs::exists(dir.path() / kCheckpointName); };
-  EXPECT_THROW(run_scene(scene, first), Interrupted);
-  RunCheckpoint c = read_checkpoint(dir.path() / kCheckpointName);
+  RunCheckpoint c = interrupted_at(scene, 37, dir.path());
   ASSERT_EQ(c.step, 37u);
   EXPECT_FALSE(c.engine.arbour.empty());
-  RunOptions resumed;
-  resumed.resume = &c;
-  const RunResult r = run_scene(scene, resumed);
-  test::TempDir out;
-  write_outputs(r, out.path(), "test", 2, {});
-  EXPECT_EQ(test::output_hashes(out.path()), want);
+  EXPECT_EQ(resumed_hashes(scene, c), want);
 }
 
 // Cue-steered arbours (the axons' continuum steering, core/guide.hpp, for every cone): a
@@ -212,20 +223,9 @@ TEST(arbours, ACheckpointCarriesTheConesDecisionSums) {
     scene.output.checkpoint_every = 37;
     const auto want = test::run_hashes(scene, 2);
     test::TempDir dir;
-    RunOptions first;
-    first.on_checkpoint = [&](const RunResult& progress, std::uint32_t step, const EngineState& e) {
-      if (step == 37) write_checkpoint(dir.path(), progress, step, e);
-    };
-    first.stop_requested = [&] { return fs::exists(dir.path() / kCheckpointName); };
-    EXPECT_THROW(run_scene(scene, first), Interrupted);
-    RunCheckpoint c = read_checkpoint(dir.path() / kCheckpointName);
+    RunCheckpoint c = interrupted_at(scene, 37, dir.path());
     ASSERT_EQ(c.step, 37u);
-    RunOptions resumed;
-    resumed.resume = &c;
-    const RunResult r = run_scene(scene, resumed);
-    test::TempDir out;
-    write_outputs(r, out.path(), "test", 2, {});
-    EXPECT_EQ(test::output_hashes(out.path()), want) << field;
+    EXPECT_EQ(resumed_hashes(scene, c), want) << field;
   }
 }
 

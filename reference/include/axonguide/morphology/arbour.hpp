@@ -86,6 +86,11 @@ struct ArbourSample {
 };
 std::vector<ArbourSample> arbour_samples(const Arbour& a);
 
+// The point each point hangs on, by index in Arbour::point (every one made earlier): its
+// cone's previous point; for a cone's first point, its branch point (a lateral branch's
+// attach point, or a daughter's parent's last point); kNoPoint for a stem's first point.
+void point_parents(const Arbour& a, std::vector<std::uint32_t>& out);
+
 // Summary numbers of one arbour (neurons.csv for arbour scenes).
 struct ArbourSummary {
   double axon_length = 0;             // the axon's segments (stem starts excluded)

@@ -131,6 +131,15 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
   if (r.graph.bfs)
     graph += fmt::format(", BFS from {} source{} reached {} (max level {})", s.analysis.bfs_sources.size(),
                          s.analysis.bfs_sources.size() == 1 ? "" : "s", r.graph.bfs->reached, r.graph.bfs->max_level);
+  if (s.synapses) {
+    std::size_t realised = 0;
+    for (const std::uint8_t x : r.synapses.realised) realised += x;
+    const double t = r.times.total("synapses");
+    fmt::print("synapses  {} contacts in {} appositions (d = {:.4g} um), {} realised on {} connections; detection "
+               "{:.3f} s ({:.3g} contacts/s)\n",
+               r.contacts, r.synapses.size(), s.synapses->distance, realised, r.synapse_connections.size(), t,
+               t > 0 ? static_cast<double>(r.contacts) / t : 0.0);
+  }
   fmt::print("graph     {}\n", graph);
   const json& d = r.decomposition;
   if (!d.is_null())

@@ -51,21 +51,24 @@ std::uint64_t estimate_run_bytes(const Scene& scene) {
 }
 
 GraphAnalysis analyze_graph(const Scene& scene, const NeuronState& neurons) {
-  GraphAnalysis a;
   const std::size_t n = neurons.size();
-  {  // the edge lists at their size, released before the analysis
-    const std::size_t edges = static_cast<std::size_t>(
-        std::count_if(neurons.target.begin(), neurons.target.end(), [](std::uint32_t t) { return t != core::kNoNeuron; }));
-    std::vector<std::uint32_t> src, dst;
-    src.reserve(edges);
-    dst.reserve(edges);
-    for (std::size_t i = 0; i < n; ++i)
-      if (neurons.target[i] != core::kNoNeuron) {
-        src.push_back(static_cast<std::uint32_t>(i));
-        dst.push_back(neurons.target[i]);
-      }
-    a.out = csr_from_edges(n, src, dst);
-  }
+  std::vector<std::uint32_t> src, dst;  // the edge lists at their size
+  const std::size_t edges = static_cast<std::size_t>(
+      std::count_if(neurons.target.begin(), neurons.target.end(), [](std::uint32_t t) { return t != core::kNoNeuron; }));
+  src.reserve(edges);
+  dst.reserve(edges);
+  for (std::size_t i = 0; i < n; ++i)
+    if (neurons.target[i] != core::kNoNeuron) {
+      src.push_back(static_cast<std::uint32_t>(i));
+      dst.push_back(neurons.target[i]);
+    }
+  return analyze_graph(scene, n, src, dst);
+}
+
+GraphAnalysis analyze_graph(const Scene& scene, std::size_t n, const std::vector<std::uint32_t>& source,
+                            const std::vector<std::uint32_t>& target) {
+  GraphAnalysis a;
+  a.out = csr_from_edges(n, source, target);
   if (!scene.analysis.bfs_sources.empty()) {
     std::vector<std::uint32_t> sources(scene.analysis.bfs_sources.begin(), scene.analysis.bfs_sources.end());
     a.bfs = bfs(a.out, sources);
@@ -95,6 +98,16 @@ void check_scene_runs(const Scene& scene) {
                                  scene.neurons.count, core::kNoNeuron));
   check_cue_fields(scene, make_cues(scene));  // every backend refuses the same grids
   if (scene.neurons.overlap_reject && scene.neurons.count >= 2) check_packing(scene);
+}
+
+void detect_synapses(RunResult& r) {
+  ScopedPhase p(r.times, 0, "synapses");
+  const network::Segments g = network::segments_of(r.arbours, r.soma, r.scene.neurons.soma_radius);
+  const SynapseParams sp = synapse_params(r.scene);
+  const std::vector<network::Contact> contacts = network::find_contacts(g, sp.distance, sp.autapses);
+  r.contacts = contacts.size();
+  r.synapses = network::group_appositions(g, contacts, sp);
+  r.synapse_connections = network::connections_of(r.synapses);
 }
 
 RunResult run_scene(const Scene& scene, const RunOptions& options) {
@@ -223,7 +236,17 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
     engine->arbours(r.arbours);
     if (engine_has_somas) engine->somas(r.soma);
   }
-  {
+  if (scene.synapses) {
+    engine.reset();
+    detect_synapses(r);
+    ScopedPhase p(r.times, 0, "graph");
+    std::vector<std::uint32_t> src, dst;
+    for (const network::Connection& c : r.synapse_connections) {
+      src.push_back(c.source);
+      dst.push_back(c.target);
+    }
+    r.graph = analyze_graph(scene, r.neurons.size(), src, dst);
+  } else {
     ScopedPhase p(r.times, 0, "graph");
     if (!engine->analyze(scene, r.graph)) {
       engine.reset();

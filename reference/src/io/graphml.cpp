@@ -78,8 +78,8 @@ void add_property(boost::dynamic_properties& dp, const std::string& name, Fn fn)
 }
 
 struct EdgeData {
-  std::uint32_t step;
-  double length;
+  std::uint32_t step;  // a synapse scene: the connection's first step
+  double length;       // the axon's length (no synapses) or the connection's synapse count
 };
 
 }  // namespace
@@ -90,11 +90,18 @@ void write_graphml(const RunResult& r, AtomicFile& file) {
   const std::size_t n = r.neurons.size();
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
   std::vector<EdgeData> data;
-  for (std::size_t i = 0; i < n; ++i)
-    if (r.neurons.target[i] != core::kNoNeuron) {
-      edges.emplace_back(static_cast<std::uint32_t>(i), r.neurons.target[i]);
-      data.push_back({r.neurons.steps[i], r.neurons.length[i]});
+  const bool synapses = r.scene.synapses.has_value();
+  if (synapses)
+    for (const network::Connection& c : r.synapse_connections) {
+      edges.emplace_back(c.source, c.target);
+      data.push_back({c.first_step, static_cast<double>(c.synapses)});
     }
+  else
+    for (std::size_t i = 0; i < n; ++i)
+      if (r.neurons.target[i] != core::kNoNeuron) {
+        edges.emplace_back(static_cast<std::uint32_t>(i), r.neurons.target[i]);
+        data.push_back({r.neurons.steps[i], r.neurons.length[i]});
+      }
   Graph g(boost::edges_are_sorted, edges.begin(), edges.end(), data.begin(), n);
 
   using Vertex = Graph::vertex_descriptor;
@@ -111,7 +118,10 @@ void write_graphml(const RunResult& r, AtomicFile& file) {
     add_property<Vertex, long>(dp, "component",
                                [&r](Vertex v) { return static_cast<long>(r.graph.component[v]); });
   add_property<Edge, int>(dp, "step", [&g](Edge e) { return static_cast<int>(g[e].step); });
-  add_property<Edge, double>(dp, "length", [&g](Edge e) { return g[e].length; });
+  if (synapses)  // the weight is the connection's realised synapse count
+    add_property<Edge, int>(dp, "weight", [&g](Edge e) { return static_cast<int>(g[e].length); });
+  else
+    add_property<Edge, double>(dp, "length", [&g](Edge e) { return g[e].length; });
 
   FileBuf buf(file);
   std::ostream os(&buf);

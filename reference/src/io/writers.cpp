@@ -101,7 +101,35 @@ void write_connections_to(const RunResult& r, Sink& f) {
   });
 }
 
-void write_connections(const RunResult& r, AtomicFile& f) { write_connections_to(r, f); }
+// A synapse scene: one row per connection with a realised synapse, by source then target.
+template <class Sink>
+void write_synapse_connections_to(const RunResult& r, Sink& f) {
+  f.write("source,target,synapses,first_step\n");
+  const auto& c = r.synapse_connections;
+  write_rows(f, c.size(), [&](std::size_t k, fmt::memory_buffer& b) {
+    fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{}\n"), c[k].source, c[k].target, c[k].synapses,
+                   c[k].first_step);
+  });
+}
+
+void write_connections(const RunResult& r, AtomicFile& f) {
+  if (r.scene.synapses) return write_synapse_connections_to(r, f);
+  write_connections_to(r, f);
+}
+
+// One row per apposition (SPEC §3.9): the closest contact's samples in morphologies/<pre>.swc
+// and morphologies/<post>.swc (a soma: 1), its point on the dendrite, its distance, the run's
+// contacts, its first step and whether it is realised as a synapse.
+void write_synapses(const RunResult& r, AtomicFile& f) {
+  f.write("pre,post,pre_sample,post_sample,x,y,z,distance,contacts,step,realised\n");
+  const network::Appositions& a = r.synapses;
+  write_rows(f, a.size(), [&](std::size_t k, fmt::memory_buffer& b) {
+    const network::Contact& c = a.at[k];
+    const core::Vec3 p = canonical(c.on_dendrite);
+    fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{},{},{},{},{},{},{}\n"), c.pre, c.post, c.pre_sample,
+                   c.post_sample, p.x, p.y, p.z, canonical(c.distance), a.contacts[k], c.step, a.realised[k]);
+  });
+}
 
 struct StringSink {
   std::string text;
@@ -196,6 +224,7 @@ void write_timings(const RunResult& r, AtomicFile& f) {
 std::vector<std::string> planned_outputs(const Scene& s) {
   std::vector<std::string> names = {"stats.csv", "timings.csv"};
   if (s.output.csv) names.insert(names.begin(), {"neurons.csv", "connections.csv"});
+  if (s.output.csv && s.synapses) names.push_back("synapses.csv");
   if (s.writes_graphml()) names.push_back("graph.graphml");
   if (!s.analysis.bfs_sources.empty() || s.analysis.components) names.push_back("bfs.csv");
   if (s.output.paths) names.push_back("paths.csv");
@@ -219,7 +248,7 @@ bool stats_row_printed(const RunResult& r, std::size_t k) {
 
 json run_summary(const RunResult& r) {
   const StepStats& last = r.stats.back();
-  return {{"neurons", r.neurons.size()},
+  json summary = {{"neurons", r.neurons.size()},
           {"steps_run", r.steps_run},
           {"connected", last.connected},
           {"exited", last.exited},
@@ -228,11 +257,21 @@ json run_summary(const RunResult& r) {
           {"components", r.graph.component_count},
           {"particles_at_end", last.particles},
           {"cue_field", r.field_note}};
+  if (r.scene.synapses) {  // only then: older manifests keep their bytes
+    std::size_t realised = 0;
+    for (const std::uint8_t x : r.synapses.realised) realised += x;
+    summary["contacts"] = r.contacts;
+    summary["appositions"] = r.synapses.size();
+    summary["synapses"] = realised;
+    summary["synaptic_connections"] = r.synapse_connections.size();
+  }
+  return summary;
 }
 
 std::string connections_csv(const RunResult& r) {
   StringSink sink;
-  write_connections_to(r, sink);
+  if (r.scene.synapses) write_synapse_connections_to(r, sink);
+  else write_connections_to(r, sink);
   return std::move(sink.text);
 }
 
@@ -252,6 +291,7 @@ OutputInfo write_outputs(const RunResult& r, const fs::path& dir, const std::str
   if (r.scene.output.csv) {
     emit("neurons.csv", write_neurons);
     emit("connections.csv", write_connections);
+    if (r.scene.synapses) emit("synapses.csv", write_synapses);
   }
   emit("stats.csv", write_stats);
   if (r.graph.bfs || !r.graph.component.empty()) emit("bfs.csv", write_bfs);

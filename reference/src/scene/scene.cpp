@@ -117,6 +117,7 @@ void read_scene(const json& root, Scene& s) {
   }
 
   if (const json* j = top.take("arbours")) read_arbour_keys(*j, s.arbours);
+  if (const json* j = top.take("synapses")) read_synapse_keys(*j, s.synapses);
 
   if (const json* j = top.take("analysis")) {
     ObjectReader r(*j, "analysis");
@@ -194,6 +195,7 @@ void check_consistency(const Scene& s, std::vector<std::string>& warnings, bool 
   if (n.shape == RegionShape::kDisc && !n.populations.empty())
     throw InputError("scene: neurons.populations need neurons.region.shape \"ball\" or \"box\" (it is \"disc\")");
   check_arbours(s);
+  check_synapses(s);
   check_steering(s);
   check_signalling(s);
   if (s.guidance.model == GuidanceModel::kDirect && !s.signalling()) {
@@ -351,6 +353,7 @@ json scene_to_json(const Scene& s) {
   write_particle_keys(s.cues.particles, cues["particles"]);
   write_grid_keys(s.cues.grid, cues);
   if (s.arbours) j["arbours"] = write_arbour_keys(*s.arbours);  // only when given: older scenes keep their bytes
+  if (s.synapses) j["synapses"] = write_synapse_keys(*s.synapses);
   j["analysis"] = {{"bfs_sources", s.analysis.bfs_sources}, {"components", s.analysis.components}};
   j["output"] = {{"paths", s.output.paths}, {"stats_every", s.output.stats_every},
                  {"vtk", s.output.vtk}, {"frames_every", s.output.frames_every}};

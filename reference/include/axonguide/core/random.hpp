@@ -41,6 +41,7 @@ enum class Stream : std::uint32_t {
   kConeSplit = 16,        // id = growth cone, step = step: the angle and plane between its daughters
   kStems = 17,            // id = neuron, step = step (0: birth): how many stems start (axons, dendrites)
   kLateral = 18,          // id = neuron, step = step: how many lateral branches start, and where (axons, dendrites)
+  kSynapse = 19,          // id = pre | post_sample << 32, step = post, block = pre_sample: is an apposition realised
 };
 
 struct Counter {

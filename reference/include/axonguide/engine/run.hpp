@@ -14,6 +14,7 @@
 #include "axonguide/core/cues.hpp"
 #include "axonguide/engine/engine.hpp"
 #include "axonguide/graph/graph.hpp"
+#include "axonguide/network/appositions.hpp"
 #include "axonguide/scene/scene.hpp"
 #include "axonguide/engine/state.hpp"
 
@@ -73,6 +74,11 @@ struct RunResult {
   std::uint64_t placement_redraws = 0;
   NeuronState neurons;
   std::vector<morphology::Arbour> arbours;  // arbour scenes: by neuron id
+  // Scenes with synapses: the appositions on the final arbours, their connections (by
+  // source, then target) and how many contacts the runs gathered.
+  network::Appositions synapses;
+  std::vector<network::Connection> synapse_connections;
+  std::uint64_t contacts = 0;
   std::vector<StepStats> stats;           // step 0 and every step run
   std::vector<std::vector<core::Vec3>> paths;  // tips after each step (output.paths)
   std::vector<core::CueParams> cues;           // the sources, positions resolved
@@ -96,10 +102,18 @@ std::uint64_t estimate_run_bytes(const Scene& scene);
 // refused scene never costs a previous run's files (--force). Throws InputError / RunError.
 void check_scene_runs(const Scene& scene);
 
+// Appositions, realised synapses and connections on the final arbours (scenes with
+// synapses; run_scene calls it after the last step).
+void detect_synapses(RunResult& r);
+
 // Runs the scene. Throws InputError / RunError.
 RunResult run_scene(const Scene& scene, const RunOptions& options);
 
 GraphAnalysis analyze_graph(const Scene& scene, const NeuronState& neurons);
+// The same analysis of a graph given by its edges (source[k] -> target[k], sorted by
+// source then target): a synapse scene's connections.
+GraphAnalysis analyze_graph(const Scene& scene, std::size_t neurons, const std::vector<std::uint32_t>& source,
+                            const std::vector<std::uint32_t>& target);
 
 // Writes every output file of SPEC §4 into dir, manifest.json last.
 struct OutputInfo {

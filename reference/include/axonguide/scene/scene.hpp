@@ -17,6 +17,7 @@
 #include "axonguide/core/types.hpp"
 #include "axonguide/core/vec3.hpp"
 #include "axonguide/model/arbours.hpp"
+#include "axonguide/model/synapses.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/estimate.hpp"
 #include "axonguide/model/growth.hpp"
@@ -98,6 +99,9 @@ struct Scene {
   // arbours (SPEC §3.8): branching axons and dendrites; nullopt: one unbranched axon per
   // neuron (the report's model).
   std::optional<ArbourKeys> arbours;
+  // synapses (SPEC §3.9): appositions where axons pass dendrites, on the final arbours;
+  // nullopt: none (an arbour scene's connections are then its axons' soma contacts).
+  std::optional<SynapseKeys> synapses;
 
   struct Analysis {
     std::vector<std::uint64_t> bfs_sources{0};

@@ -1,0 +1,87 @@
+#pragma once
+// Appositions where axons pass dendrites (SPEC §3.9; docs/methods.md §2.13), on the final
+// arbours.
+//
+// A segment is an SWC sample with its parent, except a stem's first sample (its segment
+// from the soma's centre lies inside the soma): segment s runs from sample parent(s) to
+// sample s, and is named by s, its distal sample. A contact is (a segment of neuron i's
+// axon, a segment of a dendrite of neuron j or j's soma), j != i unless autapses are asked
+// for, whose centrelines come within d (to a soma: the distance to its centre minus its
+// radius; a neuron's own soma, which its axon starts on, never counts). Two contacts of one pair are neighbours when their axon segments are the same
+// or parent and child, and their dendrite segments too (the soma is one segment, the parent
+// of each dendrite's first segment). Each connected group of contacts is one apposition,
+// placed at its closest contact (ties: the lowest axon sample, then the lowest dendrite
+// sample). Its step is the first step at which one of its contacts existed (a contact's
+// step is the later of its two segments' steps; a soma's is 0).
+//
+// Detection sorts the dendrite segments and somas into a spatial hash (hash, stable sort,
+// cell ranges), each in every cell its box grown by d covers, and visits each pair once:
+// in the cell of the lowest corner of the two boxes' overlap. Brute force (every pair) is
+// the oracle; both give the same contacts, which are then sorted by (pre, post, axon
+// sample, dendrite sample), so nothing depends on the thread count.
+#include <cstdint>
+#include <vector>
+
+#include "axonguide/core/vec3.hpp"
+#include "axonguide/model/synapses.hpp"
+#include "axonguide/morphology/arbour.hpp"
+
+namespace axg::network {
+
+inline constexpr std::uint32_t kSomaSample = 1;
+inline constexpr std::uint32_t kNoSegment = 0;  // a root segment's parent on the axon side
+
+// Every neuron's segments, flat, neuron by neuron, by sample id.
+struct Segments {
+  std::vector<std::uint64_t> first;       // neurons + 1: neuron n's samples 2.. at [first[n], first[n+1])
+  std::vector<core::Vec3> p0, p1;         // proximal and distal point, by sample (a stem start: both its point)
+  std::vector<std::uint32_t> parent;      // the parent segment's sample (kSomaSample for a root, or kNoSegment
+                                          // for a stem start, which is no segment)
+  std::vector<std::uint32_t> step;        // the step that made the distal point
+  std::vector<std::uint8_t> type;         // SWC type
+  std::vector<core::Vec3> soma;
+  double soma_radius = 0.0;
+  std::size_t neurons() const { return soma.size(); }
+  bool is_segment(std::size_t k) const { return parent[k] != kNoSegment; }
+  std::uint32_t parent_of(std::uint32_t neuron, std::uint32_t sample) const {
+    return sample == kSomaSample ? kNoSegment : parent[first[neuron] + sample - 2];
+  }
+};
+
+Segments segments_of(const std::vector<morphology::Arbour>& arbours, const std::vector<core::Vec3>& soma,
+                     double soma_radius);
+
+struct Contact {
+  std::uint32_t pre = 0, post = 0;
+  std::uint32_t pre_sample = 0, post_sample = 0;  // the two segments' distal samples (a soma: 1)
+  double distance = 0.0;                          // length units (to a soma: minus its radius)
+  core::Vec3 on_axon{0, 0, 0}, on_dendrite{0, 0, 0};  // the closest points (a soma: on its surface)
+  std::uint32_t step = 0;
+};
+
+// The contacts, sorted by (pre, post, pre_sample, post_sample). cells_visited, when not
+// null, receives the (cell, axon segment) visits the hash made (a cost statistic).
+std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, std::uint64_t* cells_visited = nullptr);
+// The oracle: every (axon segment, dendrite segment or soma) pair, the same order.
+std::vector<Contact> find_contacts_brute(const Segments& g, double d, bool autapses);
+
+struct Appositions {
+  // One entry per apposition, sorted by (pre, post, pre_sample, post_sample).
+  std::vector<Contact> at;             // its closest contact (step: the apposition's first step)
+  std::vector<std::uint32_t> contacts;  // the run's size
+  std::vector<std::uint8_t> realised;
+  std::size_t size() const { return at.size(); }
+};
+
+// Groups sorted contacts into appositions and realises them: each with probability p by a
+// draw on (seed, kSynapse, pre, post, pre_sample, post_sample), then, per connection, the
+// first `cap` realised ones in (pre_sample, post_sample) order.
+Appositions group_appositions(const Segments& g, const std::vector<Contact>& contacts, const SynapseParams& p);
+
+// A connection i -> j with at least one realised synapse.
+struct Connection {
+  std::uint32_t source, target, synapses, first_step;
+};
+std::vector<Connection> connections_of(const Appositions& a);
+
+}  // namespace axg::network

@@ -74,7 +74,7 @@ int dispatch(int argc, char** argv) {
   ValidateArgs val;
   auto* val_cmd = app.add_subcommand("validate", "Validation studies; writes a report (Markdown, CSV, PNG)");
   val_cmd->add_option("what", val.what, "samplers|field|stiff|turning|guidance|assay|gpu|bfs|all")
-      ->check(CLI::IsMember({"samplers", "field", "stiff", "turning", "guidance", "continuum", "assay", "calibration", "branching", "gpu", "bfs", "all"}))
+      ->check(CLI::IsMember({"samplers", "field", "stiff", "turning", "guidance", "continuum", "assay", "calibration", "branching", "synapses", "gpu", "bfs", "all"}))
       ->capture_default_str();
   val_cmd->add_option("--report", val.report, "Report directory")->capture_default_str();
   val_cmd->add_flag("--quick", val.quick, "Smaller sizes (the CI run)");

@@ -35,6 +35,8 @@ const Study kStudies[] = {
      validate_calibration},
     {"branching", "Branching: the BESTL rule against van Pelt's recursion, Yule and the elongation model",
      validate_branching},
+    {"synapses", "Synapses: contacts against Steiner's formula, appositions against the crossing term, the hash against "
+                 "brute force", validate_synapses},
     {"bfs", "BFS and components against Boost.Graph", validate_bfs},
     {"gpu", "Reference against the CUDA accelerator", validate_gpu},
 };

@@ -48,6 +48,32 @@ Segments segments_of(const std::vector<morphology::Arbour>& arbours, const std::
   return g;
 }
 
+Segments segments_from_polylines(const std::vector<std::vector<Polyline>>& neurons, const std::vector<Vec3>& soma,
+                                 double soma_radius) {
+  Segments g;
+  g.soma = soma;
+  g.soma_radius = soma_radius;
+  g.first.push_back(0);
+  for (const auto& lines : neurons) {
+    const std::uint64_t base = g.first.back();
+    std::uint32_t next = 2;
+    for (const Polyline& l : lines) {
+      std::uint32_t up = l.from;
+      for (std::size_t k = 0; k < l.points.size(); ++k) {
+        const bool stem_start = up == kSomaSample;
+        g.p0.push_back(stem_start ? l.points[k] : g.p1[base + up - 2]);
+        g.p1.push_back(l.points[k]);
+        g.parent.push_back(stem_start ? kNoSegment : (g.parent[base + up - 2] == kNoSegment ? kSomaSample : up));
+        g.step.push_back(l.step + static_cast<std::uint32_t>(k));
+        g.type.push_back(l.type);
+        up = next++;
+      }
+    }
+    g.first.push_back(base + (next - 2));
+  }
+  return g;
+}
+
 namespace {
 
 // An axon segment against a dendrite segment (or a soma: dendrite_sample 1): the contact

@@ -66,41 +66,10 @@ TEST(segments, ParallelSegmentsMeetAtTheSmallestAxonParameter) {
 
 // ---- hand-built neurites ---------------------------------------------------------------
 
-// Neurites as polylines: each starts at a stem start (sample with the soma as parent), or
-// branches from an earlier sample of the same neuron.
-struct Polyline {
-  std::uint8_t type;
-  std::vector<Vec3> points;    // the first: a stem start, or the first point after the branch
-  std::uint32_t from = 1;      // the sample it hangs on (1: a new stem)
-  std::uint32_t step = 0;
-};
+using network::Polyline;
 
 Segments build(const std::vector<std::vector<Polyline>>& neurons, const std::vector<Vec3>& soma, double radius) {
-  Segments g;
-  g.soma = soma;
-  g.soma_radius = radius;
-  g.first.push_back(0);
-  for (const auto& lines : neurons) {
-    const std::uint64_t base = g.first.back();
-    std::uint32_t next = 2;
-    auto point_of = [&](std::uint32_t sample) { return g.p1[base + sample - 2]; };
-    auto parent_of = [&](std::uint32_t sample) { return g.parent[base + sample - 2]; };
-    for (const Polyline& l : lines) {
-      std::uint32_t up = l.from;
-      for (std::size_t k = 0; k < l.points.size(); ++k) {
-        const bool stem_start = up == network::kSomaSample;
-        g.p0.push_back(stem_start ? l.points[k] : point_of(up));
-        g.p1.push_back(l.points[k]);
-        g.parent.push_back(stem_start ? network::kNoSegment
-                                      : (parent_of(up) == network::kNoSegment ? network::kSomaSample : up));
-        g.step.push_back(l.step + static_cast<std::uint32_t>(k));
-        g.type.push_back(l.type);
-        up = next++;
-      }
-    }
-    g.first.push_back(base + (next - 2));
-  }
-  return g;
+  return network::segments_from_polylines(neurons, soma, radius);
 }
 
 // A straight neurite from a to b cut into k segments (after its stem start at a).

@@ -51,6 +51,18 @@ struct Segments {
 Segments segments_of(const std::vector<morphology::Arbour>& arbours, const std::vector<core::Vec3>& soma,
                      double soma_radius);
 
+// Neurites given as polylines (tests and validation): each starts at a stem start (a sample
+// whose parent is the soma) or at the first point after a branch from an earlier sample of
+// the same neuron; its k-th point was made at step + k.
+struct Polyline {
+  std::uint8_t type = morphology::kAxonType;
+  std::vector<core::Vec3> points;
+  std::uint32_t from = kSomaSample;  // the sample it hangs on (kSomaSample: a new stem)
+  std::uint32_t step = 0;
+};
+Segments segments_from_polylines(const std::vector<std::vector<Polyline>>& neurons, const std::vector<core::Vec3>& soma,
+                                 double soma_radius);
+
 struct Contact {
   std::uint32_t pre = 0, post = 0;
   std::uint32_t pre_sample = 0, post_sample = 0;  // the two segments' distal samples (a soma: 1)

@@ -44,6 +44,9 @@ void validate_calibration(const Options& o, Report& r);
 // The branching rule (BESTL) against van Pelt's recursion, the Yule process and the
 // elongation model, through the tree process (validate/src/branching.cpp).
 void validate_branching(const Options& o, Report& r);
+// Apposition detection against Steiner's formula, the crossing term and brute force, and its
+// convergence on grown arbours (validate/src/synapses.cpp).
+void validate_synapses(const Options& o, Report& r);
 void validate_bfs(const Options& o, Report& r);
 void validate_gpu(const Options& o, Report& r);
 

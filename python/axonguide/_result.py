@@ -75,8 +75,18 @@ class Result:
 
     @cached_property
     def connections(self):
-        """connections.csv: structured (source u4, target u4, step u4, length f8), by source."""
+        """connections.csv: structured (source u4, target u4, step u4, length f8), by source; in
+        a scene with synapses (source u4, target u4, synapses u4, first_step u4), by source then
+        target."""
         return self._h.connections()
+
+    @cached_property
+    def synapses(self):
+        """synapses.csv (scenes with synapses; None otherwise): structured (pre u4, post u4,
+        pre_sample u4, post_sample u4, x/y/z f8 (on the dendrite), distance f8, contacts u4,
+        step u4, realised u1), one row per apposition, sorted by pre, post, pre_sample,
+        post_sample."""
+        return self._h.synapses()
 
     @cached_property
     def stats(self):
@@ -170,7 +180,8 @@ class Result:
     def to_networkx(self):
         """A networkx.DiGraph: node i (neuron id) with position (soma), status, tip, length,
         steps and, when analysed, level (BFS, -1 unreached) and component; an edge per
-        connection with step and length."""
+        connection with step and length (with synapses: weight, the realised synapse count, and
+        step, the connection's first step)."""
         import networkx as nx
 
         g = nx.DiGraph()
@@ -194,8 +205,13 @@ class Result:
             nodes.append((i, a))
         g.add_nodes_from(nodes)
         c = self.connections
-        g.add_edges_from((s, t, {"step": st, "length": ln}) for s, t, st, ln in
-                         zip(c["source"].tolist(), c["target"].tolist(), c["step"].tolist(), c["length"].tolist()))
+        if self._h.synapses() is not None:  # weight: the connection's realised synapse count
+            g.add_edges_from((s, t, {"weight": w, "step": st}) for s, t, w, st in
+                             zip(c["source"].tolist(), c["target"].tolist(), c["synapses"].tolist(),
+                                 c["first_step"].tolist()))
+        else:
+            g.add_edges_from((s, t, {"step": st, "length": ln}) for s, t, st, ln in
+                             zip(c["source"].tolist(), c["target"].tolist(), c["step"].tolist(), c["length"].tolist()))
         g.graph["seed"] = self.scene.seed
         return g
 

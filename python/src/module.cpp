@@ -39,6 +39,16 @@ struct ConnectionRow {
   std::uint32_t source, target, step;
   double length;
 };
+// A synapse scene's connections.csv and synapses.csv.
+struct SynapticConnectionRow {
+  std::uint32_t source, target, synapses, first_step;
+};
+struct SynapseRow {
+  std::uint32_t pre, post, pre_sample, post_sample;
+  double x, y, z, distance;
+  std::uint32_t contacts, step;
+  std::uint8_t realised;
+};
 struct StatsRow {
   std::uint32_t step;
   std::uint64_t growing, connected, exited, particles;
@@ -133,7 +143,14 @@ py::array_t<NeuronRow> neurons_array(const RunResult& r) {
   return a;
 }
 
-py::array_t<ConnectionRow> connections_array(const RunResult& r) {
+py::object connections_array(const RunResult& r) {
+  if (r.scene.synapses) {
+    const auto& c = r.synapse_connections;
+    py::array_t<SynapticConnectionRow> a(static_cast<py::ssize_t>(c.size()));
+    SynapticConnectionRow* out = a.mutable_data();
+    for (std::size_t k = 0; k < c.size(); ++k) out[k] = {c[k].source, c[k].target, c[k].synapses, c[k].first_step};
+    return a;
+  }
   const NeuronState& n = r.neurons;
   std::size_t count = 0;
   for (std::size_t i = 0; i < n.size(); ++i) count += n.target[i] != core::kNoNeuron;
@@ -141,6 +158,20 @@ py::array_t<ConnectionRow> connections_array(const RunResult& r) {
   ConnectionRow* out = a.mutable_data();
   for (std::size_t i = 0, k = 0; i < n.size(); ++i)
     if (n.target[i] != core::kNoNeuron) out[k++] = {static_cast<std::uint32_t>(i), n.target[i], n.steps[i], n.length[i]};
+  return a;
+}
+
+// synapses.csv's rows (scenes with synapses; None otherwise).
+py::object synapses_array(const RunResult& r) {
+  if (!r.scene.synapses) return py::none();
+  const network::Appositions& s = r.synapses;
+  py::array_t<SynapseRow> a(static_cast<py::ssize_t>(s.size()));
+  SynapseRow* out = a.mutable_data();
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const network::Contact& c = s.at[k];
+    out[k] = {c.pre,           c.post,           c.pre_sample, c.post_sample, c.on_dendrite.x, c.on_dendrite.y,
+              c.on_dendrite.z, c.distance,       s.contacts[k], c.step,       s.realised[k]};
+  }
   return a;
 }
 
@@ -349,6 +380,8 @@ using axg::py_api::ConnectionRow;
 using axg::py_api::NeuronRow;
 using axg::py_api::SourceRow;
 using axg::py_api::StatsRow;
+using axg::py_api::SynapseRow;
+using axg::py_api::SynapticConnectionRow;
 
 PYBIND11_MODULE(_core, m) {
   namespace py = pybind11;
@@ -358,6 +391,8 @@ PYBIND11_MODULE(_core, m) {
   PYBIND11_NUMPY_DTYPE(NeuronRow, id, soma_x, soma_y, soma_z, radius, status, tip_x, tip_y, tip_z, length, steps, target);
   PYBIND11_NUMPY_DTYPE(ConnectionRow, source, target, step, length);
   PYBIND11_NUMPY_DTYPE(StatsRow, step, growing, connected, exited, particles);
+  PYBIND11_NUMPY_DTYPE(SynapticConnectionRow, source, target, synapses, first_step);
+  PYBIND11_NUMPY_DTYPE(SynapseRow, pre, post, pre_sample, post_sample, x, y, z, distance, contacts, step, realised);
   PYBIND11_NUMPY_DTYPE(SourceRow, cue, kind, x, y, z, emission, diffusion, decay, kd, min_concentration,
                        max_concentration);
 
@@ -426,6 +461,7 @@ PYBIND11_MODULE(_core, m) {
            })
       .def("frames", &frames_list)
       .def("arbour", [](const RunHandle& h, std::size_t i) { return arbour_arrays(h.result, i); }, py::arg("i"))
+      .def("synapses", [](const RunHandle& h) { return synapses_array(h.result); })
       .def("bfs", &bfs_dict)
       .def("summary", [](const RunHandle& h) { return summary_dict(h.result); })
       .def("timings", [](const RunHandle& h) { return timings_dict(h.result); })

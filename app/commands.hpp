@@ -67,6 +67,13 @@ struct MorphometryArgs {
 };
 int cmd_morphometry(const MorphometryArgs& args);
 
+struct NetworkArgs {
+  std::string dir;   // a run's folder
+  std::string out;   // empty: dir
+  double bin = 25.0;  // µm: the connection probability's distance bins
+};
+int cmd_network(const NetworkArgs& args);
+
 struct SweepArgs {
   std::string spec_path;
   std::string out_dir;

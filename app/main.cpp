@@ -119,6 +119,14 @@ int dispatch(int argc, char** argv) {
       ->capture_default_str();
   morph_cmd->add_option("--sholl-step", morph.sholl_step, "Sholl radius step (µm)")->capture_default_str();
 
+  NetworkArgs network;
+  auto* network_cmd = app.add_subcommand(
+      "network", "A run's network statistics: degrees, synapses per connection, connection probability against "
+                 "distance, reciprocity, clustering, path length (DIR/network.csv and a plot)");
+  network_cmd->add_option("dir", network.dir, "A run's folder")->required();
+  network_cmd->add_option("--out", network.out, "Output folder (default: DIR)");
+  network_cmd->add_option("--bin", network.bin, "Distance bin of the connection probability (µm)")->capture_default_str();
+
   SweepArgs sweep;
   auto* sweep_cmd = app.add_subcommand("sweep", "Run a parameter sweep: sweep.csv, summary.csv (mean and 95% CI)");
   sweep_cmd->add_option("sweep", sweep.spec_path, "Sweep JSON file")->required();
@@ -205,6 +213,7 @@ int dispatch(int argc, char** argv) {
   if (view_cmd->parsed()) return cmd_view(view_dir);
   if (assay_cmd->parsed()) return cmd_assay(assay_dir);
   if (morph_cmd->parsed()) return cmd_morphometry(morph);
+  if (network_cmd->parsed()) return cmd_network(network);
   if (sweep_cmd->parsed()) return cmd_sweep(sweep);
   if (fit_cmd->parsed()) {
     if (!(fit.gain_lo < fit.gain_hi)) throw axg::InputError("fit: --gain-min must be below --gain-max");

@@ -57,7 +57,7 @@ c.errorbar(x, [m for m, _ in ap], yerr=[2 * s for _, s in ap], fmt="o", capsize=
 c.errorbar(x, [m for m, _ in cn], yerr=[2 * s for _, s in cn], fmt="s", capsize=3, label="connections per neuron")
 c.set_xticks(list(x), labels, rotation=35, ha="right", fontsize=7)
 c.set_ylabel("per neuron (±2 SE)")
-c.set_title("§D grown cultures (5 days, d = 2 µm)", fontsize=9)
+c.set_title("§D grown cultures (5 days, d = 2 µm; ±2 SE over seeds)", fontsize=9)
 c.legend(fontsize=8)
 fig.tight_layout()
 savefig_whole(fig, sys.argv[-1])

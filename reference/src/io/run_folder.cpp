@@ -38,7 +38,7 @@ namespace {
 const std::set<std::string>& fixed_outputs() {
   static const std::set<std::string> names = [] {
     std::set<std::string> n{"neurons.csv",   "connections.csv", "stats.csv",     "bfs.csv",
-                            "paths.csv",     "sources.csv",     "particles.csv", "graph.graphml",
+                            "paths.csv",     "sources.csv",     "particles.csv", "graph.graphml", "synapses.csv",
                             "timings.csv",   "growth.pvd",      kManifestName,   kCheckpointName};
     n.insert(std::begin(kSonataFiles), std::end(kSonataFiles));
     return n;

@@ -79,7 +79,7 @@ std::pair<double, double> wilson(std::uint64_t k, std::uint64_t n) {
   const double z = 1.959963984540054, p = static_cast<double>(k) / static_cast<double>(n), nn = static_cast<double>(n);
   const double c = (p + z * z / (2 * nn)) / (1 + z * z / nn);
   const double h = z / (1 + z * z / nn) * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn));
-  return {std::max(0.0, c - h), std::min(1.0, c + h)};
+  return {k == 0 ? 0.0 : std::max(0.0, c - h), k == n ? 1.0 : std::min(1.0, c + h)};
 }
 
 }  // namespace

@@ -25,9 +25,11 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
 #include "axonguide/io/canonical_nan.hpp"
+#include "axonguide/morphology/sections.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/support/fault.hpp"
 #include "axonguide/io/output.hpp"
@@ -408,7 +410,101 @@ void edge_index(hid_t indices, const char* name, std::size_t m, NodeOf node_of, 
                        });
 }
 
+// A synapse scene's edges: one per realised synapse, in synapses.csv's order (by source),
+// with SONATA's synapse attributes: the afferent (dendrite) and efferent (axon) section id
+// and position as NEURON numbers the sections of the SWC it loads (morphology/sections.hpp),
+// the two points (µm), and a delay from the axon's path length from the soma.
+void write_synapse_edges(const RunResult& r, const fs::path& dir) {
+  const double um = r.scene.units.micrometres();
+  const double speed = r.scene.output.conduction_m_per_s();
+  const network::Appositions& a = r.synapses;
+  std::vector<std::uint32_t> kept;  // the realised synapses' rows
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (a.realised[k]) kept.push_back(static_cast<std::uint32_t>(k));
+  const std::size_t m = kept.size();
+  // Each neuron's samples and sections, computed once, in parallel.
+  const std::size_t n = r.arbours.size();
+  std::vector<std::vector<morphology::ArbourSample>> samples(n);
+  std::vector<morphology::Sections> sections(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    samples[i] = morphology::arbour_samples(r.arbours[i]);
+    sections[i] = morphology::sections_of(samples[i], r.soma[i]);
+  });
+  struct Site {
+    morphology::SectionPoint afferent, efferent;
+    double path;  // the axon's path length from the soma to the synapse (length units)
+  };
+  std::vector<Site> site(m);
+  tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
+    const network::Contact& c = a.at[kept[e]];
+    site[e].afferent = morphology::locate(sections[c.post], samples[c.post], c.post_sample, c.t);
+    site[e].efferent = morphology::locate(sections[c.pre], samples[c.pre], c.pre_sample, c.s);
+    const auto& sp = samples[c.pre];
+    const std::size_t k = c.pre_sample - 2;
+    const double seg = core::norm(sp[k].pos - sp[sp[k].parent - 2].pos);
+    site[e].path = sections[c.pre].path[k] - (1.0 - c.s) * seg;
+  });
+  H5Output f(dir, "edges.h5");
+  {  // every object closed before the commit
+    Handle edges = group(f, "edges");
+    Handle pop = group(edges, kEdgePopulation);
+    auto ids = [&](const char* name, auto id) {
+      Handle set = streamed_column<std::uint64_t>(pop, name, m, [&](std::size_t begin, std::uint64_t* out, std::size_t size) {
+        for (std::size_t k = 0; k < size; ++k) out[k] = id(a.at[kept[begin + k]]);
+      });
+      string_attribute(set, "node_population", kNodePopulation);
+    };
+    ids("source_node_id", [](const network::Contact& c) { return c.pre; });
+    ids("target_node_id", [](const network::Contact& c) { return c.post; });
+    streamed_column<std::uint32_t>(pop, "edge_type_id", m, fill_zeros);
+    streamed_column<std::uint32_t>(pop, "edge_group_id", m, fill_zeros);
+    streamed_column<std::uint64_t>(pop, "edge_group_index", m, fill_iota);
+    Handle g0 = group(pop, "0");
+    auto u32 = [&](const char* name, auto value) {
+      streamed_column<std::uint32_t>(g0, name, m, [&](std::size_t begin, std::uint32_t* out, std::size_t size) {
+        for (std::size_t k = 0; k < size; ++k) out[k] = value(begin + k);
+      });
+    };
+    auto f64 = [&](const char* name, auto value, const char* units) {
+      return streamed_column<double>(
+          g0, name, m,
+          [&](std::size_t begin, double* out, std::size_t size) {
+            for (std::size_t k = 0; k < size; ++k) out[k] = canonical(value(begin + k));
+          },
+          units);
+    };
+    u32("afferent_section_id", [&](std::size_t e) { return site[e].afferent.section; });
+    f64("afferent_section_pos", [&](std::size_t e) { return site[e].afferent.pos; }, nullptr);
+    u32("efferent_section_id", [&](std::size_t e) { return site[e].efferent.section; });
+    f64("efferent_section_pos", [&](std::size_t e) { return site[e].efferent.pos; }, nullptr);
+    f64("afferent_center_x", [&](std::size_t e) { return a.at[kept[e]].on_dendrite.x * um; }, "um");
+    f64("afferent_center_y", [&](std::size_t e) { return a.at[kept[e]].on_dendrite.y * um; }, "um");
+    f64("afferent_center_z", [&](std::size_t e) { return a.at[kept[e]].on_dendrite.z * um; }, "um");
+    f64("efferent_center_x", [&](std::size_t e) { return a.at[kept[e]].on_axon.x * um; }, "um");
+    f64("efferent_center_y", [&](std::size_t e) { return a.at[kept[e]].on_axon.y * um; }, "um");
+    f64("efferent_center_z", [&](std::size_t e) { return a.at[kept[e]].on_axon.z * um; }, "um");
+    f64("distance", [&](std::size_t e) { return a.at[kept[e]].distance * um; }, "um");
+    u32("contacts", [&](std::size_t e) { return a.contacts[kept[e]]; });
+    u32("step", [&](std::size_t e) { return a.at[kept[e]].step; });
+    f64("axon_path_length", [&](std::size_t e) { return site[e].path * um; }, "um");
+    {
+      Handle set = f64("delay", [&](std::size_t e) { return site[e].path * um / (speed * 1000.0); }, "ms");
+      scalar_attribute(set, "conduction_speed", &speed, 1);
+      string_attribute(set, "conduction_speed_units", "m/s");
+    }
+    {
+      Handle dynamics = group(g0, "dynamics_params");
+      ok(H5Lcreate_hard(g0, "delay", dynamics, "delay", H5P_DEFAULT, H5P_DEFAULT), "H5Lcreate_hard");
+    }
+    Handle indices = group(pop, "indices");
+    edge_index(indices, "source_to_target", m, [&](std::size_t e) { return a.at[kept[e]].pre; }, r.neurons.size());
+    edge_index(indices, "target_to_source", m, [&](std::size_t e) { return a.at[kept[e]].post; }, r.neurons.size());
+  }
+  f.commit();
+}
+
 void write_edges(const RunResult& r, const fs::path& dir) {
+  if (r.scene.synapses) return write_synapse_edges(r, dir);
   const auto& nr = r.neurons;
   const double um = r.scene.units.micrometres();
   const double speed = r.scene.output.conduction_m_per_s();  // m/s = mm/ms = 1000 µm/ms

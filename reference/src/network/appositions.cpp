@@ -91,6 +91,8 @@ bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uin
     out.distance = dist;
     out.on_axon = on;
     out.on_dendrite = centre > 0.0 ? c + (g.soma_radius / centre) * (on - c) : c;
+    out.s = s;
+    out.t = 0.0;
     out.post_sample = kSomaSample;
     out.step = g.step[a];
   } else {
@@ -100,6 +102,8 @@ bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uin
     out.distance = std::sqrt(cp.dist2);
     out.on_axon = p0 + cp.s * (p1 - p0);
     out.on_dendrite = q0 + cp.t * (q1 - q0);
+    out.s = cp.s;
+    out.t = cp.t;
     out.post_sample = static_cast<std::uint32_t>(dk - g.first[post] + 2);
     out.step = std::max(g.step[a], g.step[dk]);
   }

@@ -68,6 +68,7 @@ struct Contact {
   std::uint32_t pre_sample = 0, post_sample = 0;  // the two segments' distal samples (a soma: 1)
   double distance = 0.0;                          // length units (to a soma: minus its radius)
   core::Vec3 on_axon{0, 0, 0}, on_dendrite{0, 0, 0};  // the closest points (a soma: on its surface)
+  double s = 0.0, t = 0.0;  // their parameters along the axon and the dendrite segment (a soma: t = 0)
   std::uint32_t step = 0;
 };
 

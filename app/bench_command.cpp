@@ -42,6 +42,7 @@ int cmd_bench(const BenchArgs& args) {
   if (w == "grid" || w == "all") add(bench::grid(o));
   if (w == "bfs" || w == "all") add(bench::bfs(o));
   if (w == "arbours" || w == "all") add(bench::arbours(o));
+  if (w == "synapses" || w == "all") add(bench::synapses(o));
   if (args.json) {
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows) {

@@ -61,8 +61,8 @@ int dispatch(int argc, char** argv) {
 
   BenchArgs bench;
   auto* bench_cmd = app.add_subcommand("bench", "Benchmarks, with installed peers measured in the same run");
-  bench_cmd->add_option("what", bench.what, "samplers|growth|particles|grid|bfs|arbours|all")
-      ->check(CLI::IsMember({"samplers", "growth", "particles", "grid", "bfs", "arbours", "all"}))
+  bench_cmd->add_option("what", bench.what, "samplers|growth|particles|grid|bfs|arbours|synapses|all")
+      ->check(CLI::IsMember({"samplers", "growth", "particles", "grid", "bfs", "arbours", "synapses", "all"}))
       ->capture_default_str();
   bench_cmd->add_option("--backend", bench.backend, "reference or cuda")
       ->check(CLI::IsMember({"reference", "cuda"}))->capture_default_str();

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "axonguide/engine/run.hpp"
 
 namespace axg::bench {
@@ -50,6 +52,9 @@ std::vector<Row> grid(const Options& o);
 // Arbours: 10^4 neurons of the culture with arbours twice the data's 5-day size (10^3 quick).
 std::vector<Row> arbours(const Options& o);
 Scene arbour_benchmark_scene(std::uint64_t neurons);
+// Synapses: the same culture with apposition detection, end to end at 10^4 and 10^5 neurons
+// (peak memory), and detection alone at three sizes of one density (O(segments)).
+std::vector<Row> synapses(const Options& o);
 
 // Median wall seconds of `repeats` calls of fn (at least one; more while under budget).
 double time_median(const std::function<void()>& fn, int repeats = 5, double budget_seconds = 2.0);
@@ -69,6 +74,7 @@ Scene paper_direct_scene(std::uint64_t neurons);
 // own) and returns wall time, exit status (-1: not started or killed) and peak memory
 // from its manifest. A run that did not exit 0 is a failed row, never a figure.
 struct ChildRun {
+  nlohmann::json manifest;  // the child's manifest (null when it wrote none)
   double seconds = 0;
   double peak_bytes = 0;
   double output_seconds = 0;  // the manifest's "output" phase (writing every file)

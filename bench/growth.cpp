@@ -74,6 +74,7 @@ ChildRun run_child(const Scene& scene, int threads, const std::string& backend) 
   // pages it shared with this process before exec).
   try {
     const auto m = nlohmann::json::parse(std::ifstream(dir / "out" / "manifest.json"));
+    r.manifest = m;
     r.peak_bytes = m.at("peak_memory_bytes").get<double>();
     r.output_seconds = m.at("timings_seconds").at("output").get<double>();
   } catch (const std::exception&) {

@@ -169,8 +169,8 @@ py::object synapses_array(const RunResult& r) {
   SynapseRow* out = a.mutable_data();
   for (std::size_t k = 0; k < s.size(); ++k) {
     const network::Contact& c = s.at[k];
-    out[k] = {c.pre,           c.post,           c.pre_sample, c.post_sample, c.on_dendrite.x, c.on_dendrite.y,
-              c.on_dendrite.z, c.distance,       s.contacts[k], c.step,       s.realised[k]};
+    out[k] = {c.pre,           c.post,           c.pre_sample, c.post_sample, s.on_dendrite[k].x, s.on_dendrite[k].y,
+              s.on_dendrite[k].z, c.distance,       s.contacts[k], c.step,       s.realised[k]};
   }
   return a;
 }

@@ -15,7 +15,6 @@
 //     length and dt are refined.
 #include <chrono>
 #include <cmath>
-#include <cstring>
 
 #include <fmt/format.h>
 
@@ -74,12 +73,7 @@ double steiner(double d, double la, double ld) {
   return 0.5 * M_PI * d * la * ld + M_PI * d * d * (la + ld) + 4.0 / 3.0 * M_PI * d * d * d;
 }
 
-bool same(const std::vector<network::Contact>& x, const std::vector<network::Contact>& y) {
-  if (x.size() != y.size()) return false;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    if (std::memcmp(&x[k], &y[k], sizeof(network::Contact)) != 0) return false;
-  return true;
-}
+bool same(const std::vector<network::Contact>& x, const std::vector<network::Contact>& y) { return x == y; }
 
 Scene culture_base() {
   return load_scene_file((data_dir() / "scenes" / "culture.json").string()).scene;

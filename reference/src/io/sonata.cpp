@@ -477,12 +477,12 @@ void write_synapse_edges(const RunResult& r, const fs::path& dir) {
     f64("afferent_section_pos", [&](std::size_t e) { return site[e].afferent.pos; }, nullptr);
     u32("efferent_section_id", [&](std::size_t e) { return site[e].efferent.section; });
     f64("efferent_section_pos", [&](std::size_t e) { return site[e].efferent.pos; }, nullptr);
-    f64("afferent_center_x", [&](std::size_t e) { return a.at[kept[e]].on_dendrite.x * um; }, "um");
-    f64("afferent_center_y", [&](std::size_t e) { return a.at[kept[e]].on_dendrite.y * um; }, "um");
-    f64("afferent_center_z", [&](std::size_t e) { return a.at[kept[e]].on_dendrite.z * um; }, "um");
-    f64("efferent_center_x", [&](std::size_t e) { return a.at[kept[e]].on_axon.x * um; }, "um");
-    f64("efferent_center_y", [&](std::size_t e) { return a.at[kept[e]].on_axon.y * um; }, "um");
-    f64("efferent_center_z", [&](std::size_t e) { return a.at[kept[e]].on_axon.z * um; }, "um");
+    f64("afferent_center_x", [&](std::size_t e) { return a.on_dendrite[kept[e]].x * um; }, "um");
+    f64("afferent_center_y", [&](std::size_t e) { return a.on_dendrite[kept[e]].y * um; }, "um");
+    f64("afferent_center_z", [&](std::size_t e) { return a.on_dendrite[kept[e]].z * um; }, "um");
+    f64("efferent_center_x", [&](std::size_t e) { return a.on_axon[kept[e]].x * um; }, "um");
+    f64("efferent_center_y", [&](std::size_t e) { return a.on_axon[kept[e]].y * um; }, "um");
+    f64("efferent_center_z", [&](std::size_t e) { return a.on_axon[kept[e]].z * um; }, "um");
     f64("distance", [&](std::size_t e) { return a.at[kept[e]].distance * um; }, "um");
     u32("contacts", [&](std::size_t e) { return a.contacts[kept[e]]; });
     u32("step", [&](std::size_t e) { return a.at[kept[e]].step; });

@@ -125,7 +125,7 @@ void write_synapses(const RunResult& r, AtomicFile& f) {
   const network::Appositions& a = r.synapses;
   write_rows(f, a.size(), [&](std::size_t k, fmt::memory_buffer& b) {
     const network::Contact& c = a.at[k];
-    const core::Vec3 p = canonical(c.on_dendrite);
+    const core::Vec3 p = canonical(a.on_dendrite[k]);
     fmt::format_to(fmt::appender(b), FMT_COMPILE("{},{},{},{},{},{},{},{},{},{},{}\n"), c.pre, c.post, c.pre_sample,
                    c.post_sample, p.x, p.y, p.z, canonical(c.distance), a.contacts[k], c.step, a.realised[k]);
   });

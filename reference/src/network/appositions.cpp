@@ -25,8 +25,8 @@ Segments segments_of(const std::vector<morphology::Arbour>& arbours, const std::
   g.first.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) g.first[i + 1] = g.first[i] + arbours[i].point.size();
   const std::size_t total = g.first[n];
-  g.p0.resize(total);
   g.p1.resize(total);
+  g.up.resize(total);
   g.parent.resize(total);
   g.step.resize(total);
   g.type.resize(total);
@@ -37,7 +37,7 @@ Segments segments_of(const std::vector<morphology::Arbour>& arbours, const std::
       const std::uint32_t up = s[k].parent;  // a sample id (1: the soma)
       const bool stem_start = up == kSomaSample;
       g.p1[base + k] = s[k].pos;
-      g.p0[base + k] = stem_start ? s[k].pos : s[up - 2].pos;
+      g.up[base + k] = stem_start ? base + k : base + up - 2;
       g.step[base + k] = s[k].step;
       g.type[base + k] = s[k].type;
       // The parent segment: the parent sample, unless it is a stem start (no segment), in
@@ -61,7 +61,7 @@ Segments segments_from_polylines(const std::vector<std::vector<Polyline>>& neuro
       std::uint32_t up = l.from;
       for (std::size_t k = 0; k < l.points.size(); ++k) {
         const bool stem_start = up == kSomaSample;
-        g.p0.push_back(stem_start ? l.points[k] : g.p1[base + up - 2]);
+        g.up.push_back(stem_start ? g.p1.size() : base + up - 2);
         g.p1.push_back(l.points[k]);
         g.parent.push_back(stem_start ? kNoSegment : (g.parent[base + up - 2] == kNoSegment ? kSomaSample : up));
         g.step.push_back(l.step + static_cast<std::uint32_t>(k));
@@ -80,7 +80,7 @@ namespace {
 // when they come within d.
 bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uint32_t post, std::uint64_t dk,
                  bool soma, double d, Contact& out) {
-  const Vec3 p0 = g.p0[a], p1 = g.p1[a];
+  const Vec3 p0 = g.p0(a), p1 = g.p1[a];
   if (soma) {
     const Vec3 c = g.soma[post];
     const double s = core::closest_parameter(p0, p1, c);
@@ -89,19 +89,15 @@ bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uin
     const double dist = centre - g.soma_radius;
     if (!(dist <= d)) return false;
     out.distance = dist;
-    out.on_axon = on;
-    out.on_dendrite = centre > 0.0 ? c + (g.soma_radius / centre) * (on - c) : c;
     out.s = s;
     out.t = 0.0;
     out.post_sample = kSomaSample;
     out.step = g.step[a];
   } else {
-    const Vec3 q0 = g.p0[dk], q1 = g.p1[dk];
+    const Vec3 q0 = g.p0(dk), q1 = g.p1[dk];
     const core::SegmentPair cp = core::closest_points(p0, p1, q0, q1);
     if (!(cp.dist2 <= d * d)) return false;
     out.distance = std::sqrt(cp.dist2);
-    out.on_axon = p0 + cp.s * (p1 - p0);
-    out.on_dendrite = q0 + cp.t * (q1 - q0);
     out.s = cp.s;
     out.t = cp.t;
     out.post_sample = static_cast<std::uint32_t>(dk - g.first[post] + 2);
@@ -112,6 +108,27 @@ bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uin
   out.pre_sample = static_cast<std::uint32_t>(a - g.first[pre] + 2);
   return true;
 }
+
+}  // namespace
+
+Vec3 axon_point(const Segments& g, const Contact& c) {
+  const std::uint64_t a = g.first[c.pre] + c.pre_sample - 2;
+  const Vec3 p0 = g.p0(a);
+  return p0 + c.s * (g.p1[a] - p0);
+}
+
+Vec3 dendrite_point(const Segments& g, const Contact& c) {
+  if (c.post_sample == kSomaSample) {
+    const Vec3 centre = g.soma[c.post], on = axon_point(g, c);
+    const double r = core::norm(on - centre);
+    return r > 0.0 ? centre + (g.soma_radius / r) * (on - centre) : centre;
+  }
+  const std::uint64_t k = g.first[c.post] + c.post_sample - 2;
+  const Vec3 q0 = g.p0(k);
+  return q0 + c.t * (g.p1[k] - q0);
+}
+
+namespace {
 
 bool contact_less(const Contact& x, const Contact& y) {
   if (x.pre != y.pre) return x.pre < y.pre;
@@ -184,7 +201,7 @@ void for_cells(Cell lo, Cell hi, F f) {
       for (std::int64_t x = lo.x; x <= hi.x; ++x) f(Cell{x, y, z});
 }
 
-// Chunks of axon segments, each with its contacts, concatenated in chunk order.
+// Axon segments per chunk of the query (at least; chunks hold whole neurons).
 constexpr std::size_t kAxonChunk = 4096;
 
 }  // namespace
@@ -194,7 +211,7 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
   // The dendrite side: its segments, then the somas (item index dendrite.size() + neuron).
   const std::size_t nd = sd.dendrite.size(), items = nd + g.neurons();
   auto item_box = [&](std::size_t k) {
-    if (k < nd) return box_of(g.p0[sd.dendrite[k]], g.p1[sd.dendrite[k]], d);
+    if (k < nd) return box_of(g.p0(sd.dendrite[k]), g.p1[sd.dendrite[k]], d);
     const Vec3 c = g.soma[k - nd];
     return box_of(c, c, d + g.soma_radius);
   };
@@ -212,10 +229,10 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
   };
   for (std::size_t k = 0; k < items; ++k) extend(item_box(k));
   for (const std::uint64_t a : sd.axon) {
-    extend(box_of(g.p0[a], g.p1[a], 0.0));
-    length += core::norm(g.p1[a] - g.p0[a]);
+    extend(box_of(g.p0(a), g.p1[a], 0.0));
+    length += core::norm(g.p1[a] - g.p0(a));
   }
-  for (const std::uint64_t k : sd.dendrite) length += core::norm(g.p1[k] - g.p0[k]);
+  for (const std::uint64_t k : sd.dendrite) length += core::norm(g.p1[k] - g.p0(k));
   const double extent = std::max({top.x - origin.x, top.y - origin.y, top.z - origin.z});
   const double cell =
       std::max({2.0 * d, 2.0 * length / static_cast<double>(sd.axon.size() + nd), extent / 1048576.0});
@@ -256,15 +273,21 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
 
   // Queries: each axon segment visits the cells of its box; a pair counts only in the cell
   // of the lowest corner of its two boxes' overlap, so once.
-  const std::size_t chunks = (sd.axon.size() + kAxonChunk - 1) / kAxonChunk;
+  // Chunks of whole neurons (at least kAxonChunk axon segments each, but the last): each
+  // sorts its own contacts, and their concatenation is the sorted whole.
+  std::vector<std::size_t> bounds{0};
+  for (std::size_t q = 1; q < sd.axon.size(); ++q)
+    if (q - bounds.back() >= kAxonChunk && sd.owner_axon[q] != sd.owner_axon[q - 1]) bounds.push_back(q);
+  bounds.push_back(sd.axon.size());
+  const std::size_t chunks = bounds.size() - 1;
   std::vector<std::vector<Contact>> found(chunks);
   std::vector<std::uint64_t> visits(chunks, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t ch) {
-    const std::size_t begin = ch * kAxonChunk, end = std::min(sd.axon.size(), begin + kAxonChunk);
+    const std::size_t begin = bounds[ch], end = bounds[ch + 1];
     for (std::size_t q = begin; q < end; ++q) {
       const std::uint64_t a = sd.axon[q];
       const std::uint32_t pre = sd.owner_axon[q];
-      const Box ab = box_of(g.p0[a], g.p1[a], 0.0);
+      const Box ab = box_of(g.p0(a), g.p1[a], 0.0);
       for_cells(hash.cell_of(ab.lo), hash.cell_of(ab.hi), [&](Cell c) {
         ++visits[ch];
         const std::uint32_t slot = hash.key(c);
@@ -285,6 +308,7 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
         }
       });
     }
+    std::sort(found[ch].begin(), found[ch].end(), contact_less);
   });
   std::vector<Contact> out;
   std::size_t total = 0;
@@ -294,7 +318,6 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
     out.insert(out.end(), f.begin(), f.end());
     f = {};
   }
-  std::sort(out.begin(), out.end(), contact_less);
   if (cells_visited) *cells_visited = std::accumulate(visits.begin(), visits.end(), std::uint64_t{0});
   return out;
 }
@@ -336,15 +359,19 @@ bool adjacent(const Segments& g, std::uint32_t neuron, std::uint32_t x, std::uin
 Appositions group_appositions(const Segments& g, const std::vector<Contact>& contacts, const SynapseParams& p) {
   Appositions out;
   const std::size_t n = contacts.size();
+  if (n == 0) return out;
   std::vector<std::uint32_t> up(n);
   std::iota(up.begin(), up.end(), 0u);
   // One neuron pair at a time (contacts sorted by pair, then axon sample, then dendrite
   // sample): a contact meets the pair's contacts on its own axon segment and on its axon
   // segment's parent; union by the lowest index keeps every root the run's first contact.
-  std::size_t g0 = 0;
-  while (g0 < n) {
-    std::size_t g1 = g0 + 1;
-    while (g1 < n && contacts[g1].pre == contacts[g0].pre && contacts[g1].post == contacts[g0].post) ++g1;
+  std::vector<std::size_t> groups{0};  // where each neuron pair's contacts start
+  for (std::size_t c = 1; c < n; ++c)
+    if (contacts[c].pre != contacts[c - 1].pre || contacts[c].post != contacts[c - 1].post) groups.push_back(c);
+  groups.push_back(n);
+  // Pairs are independent (each touches only its own contacts' entries of `up`).
+  tbb::parallel_for(std::size_t{0}, groups.size() - 1, [&](std::size_t q) {
+    const std::size_t g0 = groups[q], g1 = groups[q + 1];
     const std::uint32_t pre = contacts[g0].pre, post = contacts[g0].post;
     auto by_axon = [&](std::uint32_t sample) {
       auto lo = std::partition_point(contacts.begin() + g0, contacts.begin() + g1,
@@ -364,8 +391,7 @@ Appositions group_appositions(const Segments& g, const std::vector<Contact>& con
         }
       }
     }
-    g0 = g1;
-  }
+  });
   // Each run: its closest contact (ties: the lowest axon sample, then dendrite sample, which
   // is the contacts' order), its size, its first step.
   std::vector<std::uint32_t> index(n, 0xffffffffu);
@@ -392,6 +418,8 @@ Appositions group_appositions(const Segments& g, const std::vector<Contact>& con
   for (const std::uint32_t k : order) {
     sorted.at.push_back(out.at[k]);
     sorted.contacts.push_back(out.contacts[k]);
+    sorted.on_axon.push_back(axon_point(g, out.at[k]));
+    sorted.on_dendrite.push_back(dendrite_point(g, out.at[k]));
   }
   // Realisation: a draw each, then the cap per connection in this order.
   sorted.realised.assign(sorted.at.size(), 0);

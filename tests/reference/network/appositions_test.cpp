@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include <cstring>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -99,7 +98,7 @@ TEST(appositions, ACrossingIsOneAppositionAtEveryStep) {
     EXPECT_EQ(a.at[0].pre, 0u);
     EXPECT_EQ(a.at[0].post, 1u);
     EXPECT_DOUBLE_EQ(a.at[0].distance, 0.5);
-    EXPECT_DOUBLE_EQ(a.at[0].on_dendrite.z, 0.5);
+    EXPECT_DOUBLE_EQ(a.on_dendrite[0].z, 0.5);
     EXPECT_GE(a.contacts[0], 1u);
   }
 }
@@ -122,8 +121,8 @@ TEST(appositions, TwoSeparateCrossingsOfOnePairAreTwo) {
                            {{-50, 0, 0}, {50, 0, 0}}, 1.0);
   const network::Appositions a = appositions(g, 1.0);
   ASSERT_EQ(a.size(), 2u);
-  EXPECT_DOUBLE_EQ(a.at[0].on_dendrite.x, -3.0);
-  EXPECT_DOUBLE_EQ(a.at[1].on_dendrite.x, 3.0);
+  EXPECT_DOUBLE_EQ(a.on_dendrite[0].x, -3.0);
+  EXPECT_DOUBLE_EQ(a.on_dendrite[1].x, 3.0);
   EXPECT_EQ(network::connections_of(a).size(), 1u);
   EXPECT_EQ(network::connections_of(a)[0].synapses, 2u);
 }
@@ -138,7 +137,7 @@ TEST(appositions, ASomaCountsFromItsSurfaceAndItsOwnNeverDoes) {
   EXPECT_EQ(a.at[0].post, 1u);
   EXPECT_EQ(a.at[0].post_sample, network::kSomaSample);
   EXPECT_DOUBLE_EQ(a.at[0].distance, 0.5);
-  EXPECT_DOUBLE_EQ(a.at[0].on_dendrite.y, 0.5);
+  EXPECT_DOUBLE_EQ(a.on_dendrite[0].y, 0.5);
   EXPECT_TRUE(appositions(g, 0.4, p).at.empty());
 }
 
@@ -195,12 +194,7 @@ rc::Gen<std::vector<std::vector<Polyline>>> gen_neurons(int count) {
   });
 }
 
-bool same_contacts(const std::vector<Contact>& x, const std::vector<Contact>& y) {
-  if (x.size() != y.size()) return false;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    if (std::memcmp(&x[k], &y[k], sizeof(Contact)) != 0) return false;
-  return true;
-}
+bool same_contacts(const std::vector<Contact>& x, const std::vector<Contact>& y) { return x == y; }
 
 RC_GTEST_PROP(appositions, TheHashFindsExactlyTheBruteForceContacts, ()) {
   const int count = *rc::gen::inRange(1, 7);

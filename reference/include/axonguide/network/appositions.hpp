@@ -34,7 +34,8 @@ inline constexpr std::uint32_t kNoSegment = 0;  // a root segment's parent on th
 // Every neuron's segments, flat, neuron by neuron, by sample id.
 struct Segments {
   std::vector<std::uint64_t> first;       // neurons + 1: neuron n's samples 2.. at [first[n], first[n+1])
-  std::vector<core::Vec3> p0, p1;         // proximal and distal point, by sample (a stem start: both its point)
+  std::vector<core::Vec3> p1;             // the distal point, by sample
+  std::vector<std::uint64_t> up;          // the proximal point's index in p1 (a stem start: its own)
   std::vector<std::uint32_t> parent;      // the parent segment's sample (kSomaSample for a root, or kNoSegment
                                           // for a stem start, which is no segment)
   std::vector<std::uint32_t> step;        // the step that made the distal point
@@ -42,6 +43,7 @@ struct Segments {
   std::vector<core::Vec3> soma;
   double soma_radius = 0.0;
   std::size_t neurons() const { return soma.size(); }
+  core::Vec3 p0(std::size_t k) const { return p1[up[k]]; }
   bool is_segment(std::size_t k) const { return parent[k] != kNoSegment; }
   std::uint32_t parent_of(std::uint32_t neuron, std::uint32_t sample) const {
     return sample == kSomaSample ? kNoSegment : parent[first[neuron] + sample - 2];
@@ -66,11 +68,16 @@ Segments segments_from_polylines(const std::vector<std::vector<Polyline>>& neuro
 struct Contact {
   std::uint32_t pre = 0, post = 0;
   std::uint32_t pre_sample = 0, post_sample = 0;  // the two segments' distal samples (a soma: 1)
-  double distance = 0.0;                          // length units (to a soma: minus its radius)
-  core::Vec3 on_axon{0, 0, 0}, on_dendrite{0, 0, 0};  // the closest points (a soma: on its surface)
-  double s = 0.0, t = 0.0;  // their parameters along the axon and the dendrite segment (a soma: t = 0)
   std::uint32_t step = 0;
+  double distance = 0.0;    // length units (to a soma: minus its radius)
+  double s = 0.0, t = 0.0;  // the closest points' parameters along the axon and the dendrite segment (a soma: t = 0)
+  bool operator==(const Contact&) const = default;  // every field exactly
 };
+
+// The closest points of a contact: on the axon segment, and on the dendrite segment (a
+// soma: on its surface toward the axon's point; its centre when that point is the centre).
+core::Vec3 axon_point(const Segments& g, const Contact& c);
+core::Vec3 dendrite_point(const Segments& g, const Contact& c);
 
 // The contacts, sorted by (pre, post, pre_sample, post_sample). cells_visited, when not
 // null, receives the (cell, axon segment) visits the hash made (a cost statistic).
@@ -81,6 +88,7 @@ std::vector<Contact> find_contacts_brute(const Segments& g, double d, bool autap
 struct Appositions {
   // One entry per apposition, sorted by (pre, post, pre_sample, post_sample).
   std::vector<Contact> at;             // its closest contact (step: the apposition's first step)
+  std::vector<core::Vec3> on_axon, on_dendrite;  // that contact's closest points
   std::vector<std::uint32_t> contacts;  // the run's size
   std::vector<std::uint8_t> realised;
   std::size_t size() const { return at.size(); }

@@ -122,9 +122,13 @@ void print_summary(const RunResult& r, const RunArgs& args, int threads, const s
   }
   fmt::print("growth    {} of {} steps{}\n", r.steps_run, s.steps,
              r.steps_run < s.steps ? " (stopped early: no axon left growing)" : "");
-  fmt::print("          connected {} ({:.1f}%), exited {} ({:.1f}%), max_steps {}\n", last.connected,
-             100.0 * static_cast<double>(last.connected) / n, last.exited,
-             100.0 * static_cast<double>(last.exited) / n, last.growing);
+  if (s.arbours)  // an arbour run's counts are growth cones (stats.csv), not neurons
+    fmt::print("          growth cones stopped at a soma {}, left the bounds {}; {} neurons still growing\n",
+               last.connected, last.exited, last.growing);
+  else
+    fmt::print("          connected {} ({:.1f}%), exited {} ({:.1f}%), max_steps {}\n", last.connected,
+               100.0 * static_cast<double>(last.connected) / n, last.exited,
+               100.0 * static_cast<double>(last.exited) / n, last.growing);
   std::string graph = fmt::format("{} edges", r.graph.out.edges());
   if (r.graph.component_count)
     graph += fmt::format(", {} components (largest {})", r.graph.component_count, r.graph.largest_component);

@@ -94,9 +94,9 @@ std::vector<Row> synapses(const Options& o) {
           with_threads(threads, [&] {
             const network::Segments g = network::segments_of(r.arbours, r.soma, s.neurons.soma_radius);
             segments = g.p1.size();
-            const auto c = network::find_contacts(g, p.distance, p.autapses);
-            contacts = c.size();
-            apps = network::group_appositions(g, c, p).size();
+            std::uint64_t found = 0;
+            apps = network::find_appositions(g, p, &found).size();
+            contacts = found;
             return 0;
           });
         },

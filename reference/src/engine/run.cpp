@@ -104,9 +104,7 @@ void detect_synapses(RunResult& r) {
   ScopedPhase p(r.times, 0, "synapses");
   const network::Segments g = network::segments_of(r.arbours, r.soma, r.scene.neurons.soma_radius);
   const SynapseParams sp = synapse_params(r.scene);
-  const std::vector<network::Contact> contacts = network::find_contacts(g, sp.distance, sp.autapses);
-  r.contacts = contacts.size();
-  r.synapses = network::group_appositions(g, contacts, sp);
+  r.synapses = network::find_appositions(g, sp, &r.contacts);
   r.synapse_connections = network::connections_of(r.synapses);
 }
 

@@ -206,7 +206,14 @@ constexpr std::size_t kAxonChunk = 4096;
 
 }  // namespace
 
-std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, std::uint64_t* cells_visited) {
+namespace {
+
+// The hash's query in chunks of whole neurons: init(chunks) once, then, in parallel,
+// sink(chunk, contacts) with each chunk's contacts sorted by (pre, post, pre_sample,
+// post_sample); chunks in order make the sorted whole. Returns the (cell, axon segment)
+// visits.
+template <class Init, class Sink>
+std::uint64_t query_chunks(const Segments& g, double d, bool autapses, Init&& init, Sink&& sink) {
   const Sides sd = sides_of(g);
   // The dendrite side: its segments, then the somas (item index dendrite.size() + neuron).
   const std::size_t nd = sd.dendrite.size(), items = nd + g.neurons();
@@ -215,7 +222,10 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
     const Vec3 c = g.soma[k - nd];
     return box_of(c, c, d + g.soma_radius);
   };
-  if (items == 0 || sd.axon.empty()) return {};
+  if (items == 0 || sd.axon.empty()) {
+    init(std::size_t{0});
+    return 0;
+  }
   // The cell: at least 2d and twice the mean axon and dendrite segment length, so that a
   // segment's box covers a few cells (in a culture at the bench's density, twice the mean
   // length took 0.98 s of queries against 1.22 s at once the mean, with a quarter of the
@@ -280,9 +290,10 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
     if (q - bounds.back() >= kAxonChunk && sd.owner_axon[q] != sd.owner_axon[q - 1]) bounds.push_back(q);
   bounds.push_back(sd.axon.size());
   const std::size_t chunks = bounds.size() - 1;
-  std::vector<std::vector<Contact>> found(chunks);
+  init(chunks);
   std::vector<std::uint64_t> visits(chunks, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t ch) {
+    std::vector<Contact> found;
     const std::size_t begin = bounds[ch], end = bounds[ch + 1];
     for (std::size_t q = begin; q < end; ++q) {
       const std::uint64_t a = sd.axon[q];
@@ -304,12 +315,23 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
           const std::uint32_t post = soma ? static_cast<std::uint32_t>(k - nd) : sd.owner_dendrite[k];
           if (post == pre && (!autapses || soma)) continue;
           Contact ct;
-          if (try_contact(g, pre, a, post, soma ? 0 : sd.dendrite[k], soma, d, ct)) found[ch].push_back(ct);
+          if (try_contact(g, pre, a, post, soma ? 0 : sd.dendrite[k], soma, d, ct)) found.push_back(ct);
         }
       });
     }
-    std::sort(found[ch].begin(), found[ch].end(), contact_less);
+    std::sort(found.begin(), found.end(), contact_less);
+    sink(ch, found);
   });
+  return std::accumulate(visits.begin(), visits.end(), std::uint64_t{0});
+}
+
+}  // namespace
+
+std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, std::uint64_t* cells_visited) {
+  std::vector<std::vector<Contact>> found;
+  const std::uint64_t visits = query_chunks(
+      g, d, autapses, [&](std::size_t chunks) { found.resize(chunks); },
+      [&](std::size_t ch, std::vector<Contact>& contacts) { found[ch] = std::move(contacts); });
   std::vector<Contact> out;
   std::size_t total = 0;
   for (const auto& f : found) total += f.size();
@@ -318,7 +340,7 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
     out.insert(out.end(), f.begin(), f.end());
     f = {};
   }
-  if (cells_visited) *cells_visited = std::accumulate(visits.begin(), visits.end(), std::uint64_t{0});
+  if (cells_visited) *cells_visited = visits;
   return out;
 }
 
@@ -356,7 +378,11 @@ bool adjacent(const Segments& g, std::uint32_t neuron, std::uint32_t x, std::uin
 
 }  // namespace
 
-Appositions group_appositions(const Segments& g, const std::vector<Contact>& contacts, const SynapseParams& p) {
+namespace {
+
+// The runs of sorted contacts (whole neuron pairs), sorted by their closest contacts; not
+// yet realised.
+Appositions runs_of(const Segments& g, const std::vector<Contact>& contacts) {
   Appositions out;
   const std::size_t n = contacts.size();
   if (n == 0) return out;
@@ -421,7 +447,11 @@ Appositions group_appositions(const Segments& g, const std::vector<Contact>& con
     sorted.on_axon.push_back(axon_point(g, out.at[k]));
     sorted.on_dendrite.push_back(dendrite_point(g, out.at[k]));
   }
-  // Realisation: a draw each, then the cap per connection in this order.
+  return sorted;
+}
+
+// Realisation: a draw each, then the cap per connection in (pre_sample, post_sample) order.
+void realise(Appositions& sorted, const SynapseParams& p) {
   sorted.realised.assign(sorted.at.size(), 0);
   std::uint32_t kept = 0;
   for (std::size_t k = 0; k < sorted.at.size(); ++k) {
@@ -442,7 +472,49 @@ Appositions group_appositions(const Segments& g, const std::vector<Contact>& con
       ++kept;
     }
   }
-  return sorted;
+}
+
+}  // namespace
+
+Appositions group_appositions(const Segments& g, const std::vector<Contact>& contacts, const SynapseParams& p) {
+  Appositions a = runs_of(g, contacts);
+  realise(a, p);
+  return a;
+}
+
+Appositions find_appositions(const Segments& g, const SynapseParams& p, std::uint64_t* contacts) {
+  // Each chunk's contacts become its runs at once (a neuron pair never spans two chunks),
+  // so the contacts are never all held together.
+  std::vector<Appositions> parts;
+  std::vector<std::uint64_t> counts;
+  query_chunks(
+      g, p.distance, p.autapses,
+      [&](std::size_t chunks) {
+        parts.resize(chunks);
+        counts.assign(chunks, 0);
+      },
+      [&](std::size_t ch, std::vector<Contact>& found) {
+        counts[ch] = found.size();
+        parts[ch] = runs_of(g, found);
+        found = {};
+      });
+  Appositions out;
+  std::size_t total = 0;
+  for (const Appositions& a : parts) total += a.size();
+  out.at.reserve(total);
+  out.contacts.reserve(total);
+  out.on_axon.reserve(total);
+  out.on_dendrite.reserve(total);
+  for (Appositions& a : parts) {
+    out.at.insert(out.at.end(), a.at.begin(), a.at.end());
+    out.contacts.insert(out.contacts.end(), a.contacts.begin(), a.contacts.end());
+    out.on_axon.insert(out.on_axon.end(), a.on_axon.begin(), a.on_axon.end());
+    out.on_dendrite.insert(out.on_dendrite.end(), a.on_dendrite.begin(), a.on_dendrite.end());
+    a = {};
+  }
+  realise(out, p);
+  if (contacts) *contacts = std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
+  return out;
 }
 
 std::vector<Connection> connections_of(const Appositions& a) {

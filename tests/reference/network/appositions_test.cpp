@@ -214,8 +214,17 @@ RC_GTEST_PROP(appositions, TheHashFindsExactlyTheBruteForceContacts, ()) {
     RC_ASSERT(autapses || c.pre != c.post);
     RC_ASSERT(!(c.pre == c.post && c.post_sample == network::kSomaSample));
   }
-  // Runs partition the contacts.
+  // Runs partition the contacts, and the run's chunked path gives the same appositions.
   const network::Appositions a = network::group_appositions(g, fast, all_realised());
+  std::uint64_t counted = 0;
+  const network::Appositions b = network::find_appositions(g, [&] {
+    SynapseParams p = all_realised();
+    p.distance = d;
+    p.autapses = autapses;
+    return p;
+  }(), &counted);
+  RC_ASSERT(counted == fast.size());
+  RC_ASSERT(b.at == a.at && b.contacts == a.contacts && b.realised == a.realised && b.on_dendrite.size() == a.size());
   std::uint64_t gathered = 0;
   for (const std::uint32_t n : a.contacts) gathered += n;
   RC_ASSERT(gathered == fast.size());

@@ -99,6 +99,11 @@ struct Appositions {
 // first `cap` realised ones in (pre_sample, post_sample) order.
 Appositions group_appositions(const Segments& g, const std::vector<Contact>& contacts, const SynapseParams& p);
 
+// The same appositions straight from the segments, a chunk of whole neurons at a time, so
+// that the contacts are never all held at once (the run's path); contacts, when not null,
+// receives how many there were.
+Appositions find_appositions(const Segments& g, const SynapseParams& p, std::uint64_t* contacts = nullptr);
+
 // A connection i -> j with at least one realised synapse.
 struct Connection {
   std::uint32_t source, target, synapses, first_step;

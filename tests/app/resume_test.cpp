@@ -212,7 +212,7 @@ TEST(resume, TheAcceleratorsEngineResumesToTheSameBytes) {
   }
 }
 
-// Arbours (issue 41): a culture whose cones steer by an imposed gradient with decisions over 3
+// Arbours (issue 41) with synapses (issue 42): a culture whose cones steer by an imposed gradient with decisions over 3
 // steps (checkpoints fall inside an interval: the cones' sums are state), with lateral
 // branches, SWC and paths; killed with SIGKILL at every stage and resumed by the command
 // (arbour_engine_test resumes a particle field's state with the cones' sums in process).
@@ -227,10 +227,11 @@ TEST(resume, AKilledArbourRunResumesToTheSameBytes) {
                {"imposed", {{"profile", "exponential"}, {"direction", {1, 0, 0}}, {"steepness", 1.0}}},
                {"sources", {{{"kind", "attractant"}, {"position", {0, 0, 0}}}}}};
   s["arbours"]["axon"]["lateral_rate"] = 0.002;
+  s["synapses"] = {{"distance", 3}, {"probability", 0.7}};  // issue 42: detected on the final arbours
   s["output"] = {{"checkpoint_every", 4}, {"paths", true}, {"swc", true}};
   Trial t("culture-steered-lateral", s);
   for (const char* point : {"placement", "setup", "step 3", "checkpoint 8", "step 13", "output neurons.csv",
-                            "output paths.csv", "checkpoint 20", "manifest"})
+                            "output synapses.csv", "output paths.csv", "checkpoint 20", "manifest"})
     t.kill_and_resume(point, "reference", "reference");
 }
 

@@ -93,7 +93,7 @@ std::vector<Row> synapses(const Options& o) {
         [&] {
           with_threads(threads, [&] {
             const network::Segments g = network::segments_of(r.arbours, r.soma, s.neurons.soma_radius);
-            segments = g.p1.size();
+            segments = g.size();
             std::uint64_t found = 0;
             apps = network::find_appositions(g, p, &found).size();
             contacts = found;

@@ -209,7 +209,7 @@ void validate_synapses(const Options& o, Report& r) {
         const bool equal = same(fast, brute) && same(a.at, b.at) && a.contacts == b.contacts;
         mismatched += !equal;
         t.push_back({std::to_string(seed), fmt::format("{}", d), seed == 2 ? "yes" : "no",
-                     fmt::format("{}", s.arbours->sample_length), std::to_string(g.p1.size()),
+                     fmt::format("{}", s.arbours->sample_length), std::to_string(g.size()),
                      std::to_string(brute.size()), std::to_string(b.size()), equal ? "identical" : "DIFFERENT"});
       }
     }

@@ -21,27 +21,33 @@ void point_parents(const Arbour& a, std::vector<std::uint32_t>& out) {
   }
 }
 
-std::vector<ArbourSample> arbour_samples(const Arbour& a) {
+void sample_order(const Arbour& a, std::vector<std::uint32_t>& point_of, std::vector<std::uint32_t>& parent) {
   const std::size_t cones = a.cones.size();
   std::vector<std::uint32_t> count(cones, 0), first(cones + 1, 0);
   for (const std::uint32_t c : a.cone_of) ++count[c];
   for (std::size_t c = 0; c < cones; ++c) first[c + 1] = first[c] + count[c];
-  std::vector<ArbourSample> out(a.point.size());
   std::vector<std::uint32_t> fill(cones, 0), parents, sample_of(a.point.size());
   point_parents(a, parents);
+  point_of.assign(a.point.size(), 0);
+  parent.assign(a.point.size(), 1u);
   // Samples: the cones in index order, each cone's points in order; a point's parent is
   // the sample of the point it hangs on (made earlier, so numbered already), or the soma.
   for (std::size_t i = 0; i < a.point.size(); ++i) {
     const std::uint32_t c = a.cone_of[i];
-    const Cone& cone = a.cones[c];
     sample_of[i] = 2u + first[c] + fill[c]++;
-    ArbourSample& s = out[sample_of[i] - 2u];
-    s.pos = a.point[i];
-    s.cone = c;
-    s.type = cone.type;
-    s.order = cone.order;
-    s.step = a.step_of[i];
-    s.parent = parents[i] == kNoPoint ? 1u : sample_of[parents[i]];
+    point_of[sample_of[i] - 2u] = static_cast<std::uint32_t>(i);
+    parent[sample_of[i] - 2u] = parents[i] == kNoPoint ? 1u : sample_of[parents[i]];
+  }
+}
+
+std::vector<ArbourSample> arbour_samples(const Arbour& a) {
+  std::vector<std::uint32_t> point_of, parent;
+  sample_order(a, point_of, parent);
+  std::vector<ArbourSample> out(a.point.size());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const std::uint32_t i = point_of[k];
+    const Cone& cone = a.cones[a.cone_of[i]];
+    out[k] = {a.point[i], parent[k], a.cone_of[i], a.step_of[i], cone.type, cone.order};
   }
   return out;
 }

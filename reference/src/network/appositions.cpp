@@ -25,24 +25,22 @@ Segments segments_of(const std::vector<morphology::Arbour>& arbours, const std::
   g.first.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) g.first[i + 1] = g.first[i] + arbours[i].point.size();
   const std::size_t total = g.first[n];
-  g.p1.resize(total);
+  g.points.resize(n);
+  g.steps.resize(n);
+  g.point.resize(total);
   g.up.resize(total);
-  g.parent.resize(total);
-  g.step.resize(total);
   g.type.resize(total);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    const std::vector<morphology::ArbourSample> s = morphology::arbour_samples(arbours[i]);
+    const morphology::Arbour& a = arbours[i];
+    g.points[i] = a.point.data();
+    g.steps[i] = a.step_of.data();
+    std::vector<std::uint32_t> point_of, parent;
+    morphology::sample_order(a, point_of, parent);
     const std::uint64_t base = g.first[i];
-    for (std::size_t k = 0; k < s.size(); ++k) {
-      const std::uint32_t up = s[k].parent;  // a sample id (1: the soma)
-      const bool stem_start = up == kSomaSample;
-      g.p1[base + k] = s[k].pos;
-      g.up[base + k] = stem_start ? base + k : base + up - 2;
-      g.step[base + k] = s[k].step;
-      g.type[base + k] = s[k].type;
-      // The parent segment: the parent sample, unless it is a stem start (no segment), in
-      // which case the soma.
-      g.parent[base + k] = stem_start ? kNoSegment : (s[up - 2].parent == kSomaSample ? kSomaSample : up);
+    for (std::size_t k = 0; k < point_of.size(); ++k) {
+      g.point[base + k] = point_of[k];
+      g.up[base + k] = parent[k];
+      g.type[base + k] = a.cones[a.cone_of[point_of[k]]].type;
     }
   });
   return g;
@@ -60,16 +58,20 @@ Segments segments_from_polylines(const std::vector<std::vector<Polyline>>& neuro
     for (const Polyline& l : lines) {
       std::uint32_t up = l.from;
       for (std::size_t k = 0; k < l.points.size(); ++k) {
-        const bool stem_start = up == kSomaSample;
-        g.up.push_back(stem_start ? g.p1.size() : base + up - 2);
-        g.p1.push_back(l.points[k]);
-        g.parent.push_back(stem_start ? kNoSegment : (g.parent[base + up - 2] == kNoSegment ? kSomaSample : up));
-        g.step.push_back(l.step + static_cast<std::uint32_t>(k));
+        g.point.push_back(static_cast<std::uint32_t>(g.own_points.size() - base));  // index in its neuron's points
+        g.up.push_back(up);
+        g.own_points.push_back(l.points[k]);
+        g.own_steps.push_back(l.step + static_cast<std::uint32_t>(k));
         g.type.push_back(l.type);
         up = next++;
       }
     }
     g.first.push_back(base + (next - 2));
+  }
+  // Each neuron's points start at its first sample in the own storage (complete now).
+  for (std::size_t n = 0; n + 1 < g.first.size(); ++n) {
+    g.points.push_back(g.own_points.data() + g.first[n]);
+    g.steps.push_back(g.own_steps.data() + g.first[n]);
   }
   return g;
 }
@@ -80,7 +82,7 @@ namespace {
 // when they come within d.
 bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uint32_t post, std::uint64_t dk,
                  bool soma, double d, Contact& out) {
-  const Vec3 p0 = g.p0(a), p1 = g.p1[a];
+  const Vec3 p0 = g.p0(pre, a), p1 = g.p1(pre, a);
   if (soma) {
     const Vec3 c = g.soma[post];
     const double s = core::closest_parameter(p0, p1, c);
@@ -92,16 +94,16 @@ bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uin
     out.s = s;
     out.t = 0.0;
     out.post_sample = kSomaSample;
-    out.step = g.step[a];
+    out.step = g.step(pre, a);
   } else {
-    const Vec3 q0 = g.p0(dk), q1 = g.p1[dk];
+    const Vec3 q0 = g.p0(post, dk), q1 = g.p1(post, dk);
     const core::SegmentPair cp = core::closest_points(p0, p1, q0, q1);
     if (!(cp.dist2 <= d * d)) return false;
     out.distance = std::sqrt(cp.dist2);
     out.s = cp.s;
     out.t = cp.t;
     out.post_sample = static_cast<std::uint32_t>(dk - g.first[post] + 2);
-    out.step = std::max(g.step[a], g.step[dk]);
+    out.step = std::max(g.step(pre, a), g.step(post, dk));
   }
   out.pre = pre;
   out.post = post;
@@ -113,8 +115,8 @@ bool try_contact(const Segments& g, std::uint32_t pre, std::uint64_t a, std::uin
 
 Vec3 axon_point(const Segments& g, const Contact& c) {
   const std::uint64_t a = g.first[c.pre] + c.pre_sample - 2;
-  const Vec3 p0 = g.p0(a);
-  return p0 + c.s * (g.p1[a] - p0);
+  const Vec3 p0 = g.p0(c.pre, a);
+  return p0 + c.s * (g.p1(c.pre, a) - p0);
 }
 
 Vec3 dendrite_point(const Segments& g, const Contact& c) {
@@ -124,8 +126,8 @@ Vec3 dendrite_point(const Segments& g, const Contact& c) {
     return r > 0.0 ? centre + (g.soma_radius / r) * (on - centre) : centre;
   }
   const std::uint64_t k = g.first[c.post] + c.post_sample - 2;
-  const Vec3 q0 = g.p0(k);
-  return q0 + c.t * (g.p1[k] - q0);
+  const Vec3 q0 = g.p0(c.post, k);
+  return q0 + c.t * (g.p1(c.post, k) - q0);
 }
 
 namespace {
@@ -137,26 +139,38 @@ bool contact_less(const Contact& x, const Contact& y) {
   return x.post_sample < y.post_sample;
 }
 
-// Each neuron's axon segments and dendrite segments, by global sample index.
+// The dendrite side: every dendrite segment (by global sample index) and its neuron; and
+// each neuron's axon segment count (the query walks neurons, not a list of axon segments).
 struct Sides {
-  std::vector<std::uint64_t> axon, dendrite;
-  std::vector<std::uint32_t> owner_axon, owner_dendrite;
+  std::vector<std::uint64_t> dendrite;
+  std::vector<std::uint32_t> owner_dendrite;
+  std::vector<std::uint64_t> axons;  // by neuron
+  std::uint64_t axon_total = 0;
 };
 
 Sides sides_of(const Segments& g) {
   Sides s;
+  s.axons.assign(g.neurons(), 0);
   for (std::size_t n = 0; n < g.neurons(); ++n)
     for (std::uint64_t k = g.first[n]; k < g.first[n + 1]; ++k) {
       if (!g.is_segment(k)) continue;
       if (g.type[k] == morphology::kAxonType) {
-        s.axon.push_back(k);
-        s.owner_axon.push_back(static_cast<std::uint32_t>(n));
+        ++s.axons[n];
       } else {
         s.dendrite.push_back(k);
         s.owner_dendrite.push_back(static_cast<std::uint32_t>(n));
       }
     }
+  s.axon_total = std::accumulate(s.axons.begin(), s.axons.end(), std::uint64_t{0});
   return s;
+}
+
+// Calls f(neuron, k) for every axon segment of the neurons [n0, n1), in order.
+template <class F>
+void for_axon_segments(const Segments& g, std::size_t n0, std::size_t n1, F&& f) {
+  for (std::size_t n = n0; n < n1; ++n)
+    for (std::uint64_t k = g.first[n]; k < g.first[n + 1]; ++k)
+      if (g.is_segment(k) && g.type[k] == morphology::kAxonType) f(static_cast<std::uint32_t>(n), k);
 }
 
 struct Box {
@@ -218,11 +232,11 @@ std::uint64_t query_chunks(const Segments& g, double d, bool autapses, Init&& in
   // The dendrite side: its segments, then the somas (item index dendrite.size() + neuron).
   const std::size_t nd = sd.dendrite.size(), items = nd + g.neurons();
   auto item_box = [&](std::size_t k) {
-    if (k < nd) return box_of(g.p0(sd.dendrite[k]), g.p1[sd.dendrite[k]], d);
+    if (k < nd) return box_of(g.p0(sd.owner_dendrite[k], sd.dendrite[k]), g.p1(sd.owner_dendrite[k], sd.dendrite[k]), d);
     const Vec3 c = g.soma[k - nd];
     return box_of(c, c, d + g.soma_radius);
   };
-  if (items == 0 || sd.axon.empty()) {
+  if (items == 0 || sd.axon_total == 0) {
     init(std::size_t{0});
     return 0;
   }
@@ -238,14 +252,15 @@ std::uint64_t query_chunks(const Segments& g, double d, bool autapses, Init&& in
     top = {std::max(top.x, b.hi.x), std::max(top.y, b.hi.y), std::max(top.z, b.hi.z)};
   };
   for (std::size_t k = 0; k < items; ++k) extend(item_box(k));
-  for (const std::uint64_t a : sd.axon) {
-    extend(box_of(g.p0(a), g.p1[a], 0.0));
-    length += core::norm(g.p1[a] - g.p0(a));
-  }
-  for (const std::uint64_t k : sd.dendrite) length += core::norm(g.p1[k] - g.p0(k));
+  for_axon_segments(g, 0, g.neurons(), [&](std::uint32_t n, std::uint64_t a) {
+    extend(box_of(g.p0(n, a), g.p1(n, a), 0.0));
+    length += core::norm(g.p1(n, a) - g.p0(n, a));
+  });
+  for (std::size_t k = 0; k < nd; ++k)
+    length += core::norm(g.p1(sd.owner_dendrite[k], sd.dendrite[k]) - g.p0(sd.owner_dendrite[k], sd.dendrite[k]));
   const double extent = std::max({top.x - origin.x, top.y - origin.y, top.z - origin.z});
   const double cell =
-      std::max({2.0 * d, 2.0 * length / static_cast<double>(sd.axon.size() + nd), extent / 1048576.0});
+      std::max({2.0 * d, 2.0 * length / static_cast<double>(sd.axon_total + nd), extent / 1048576.0});
   // Entries: every item in every cell its grown box covers, counted then filled, items in
   // order; then a stable sort by slot.
   const Hash sizing(origin, cell, 1);
@@ -285,20 +300,23 @@ std::uint64_t query_chunks(const Segments& g, double d, bool autapses, Init&& in
   // of the lowest corner of its two boxes' overlap, so once.
   // Chunks of whole neurons (at least kAxonChunk axon segments each, but the last): each
   // sorts its own contacts, and their concatenation is the sorted whole.
-  std::vector<std::size_t> bounds{0};
-  for (std::size_t q = 1; q < sd.axon.size(); ++q)
-    if (q - bounds.back() >= kAxonChunk && sd.owner_axon[q] != sd.owner_axon[q - 1]) bounds.push_back(q);
-  bounds.push_back(sd.axon.size());
+  std::vector<std::size_t> bounds{0};  // neuron ranges
+  std::uint64_t in_chunk = 0;
+  for (std::size_t n = 0; n < g.neurons(); ++n) {
+    in_chunk += sd.axons[n];
+    if (in_chunk >= kAxonChunk && n + 1 < g.neurons()) {
+      bounds.push_back(n + 1);
+      in_chunk = 0;
+    }
+  }
+  bounds.push_back(g.neurons());
   const std::size_t chunks = bounds.size() - 1;
   init(chunks);
   std::vector<std::uint64_t> visits(chunks, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t ch) {
     std::vector<Contact> found;
-    const std::size_t begin = bounds[ch], end = bounds[ch + 1];
-    for (std::size_t q = begin; q < end; ++q) {
-      const std::uint64_t a = sd.axon[q];
-      const std::uint32_t pre = sd.owner_axon[q];
-      const Box ab = box_of(g.p0(a), g.p1[a], 0.0);
+    for_axon_segments(g, bounds[ch], bounds[ch + 1], [&](std::uint32_t pre, std::uint64_t a) {
+      const Box ab = box_of(g.p0(pre, a), g.p1(pre, a), 0.0);
       for_cells(hash.cell_of(ab.lo), hash.cell_of(ab.hi), [&](Cell c) {
         ++visits[ch];
         const std::uint32_t slot = hash.key(c);
@@ -318,7 +336,7 @@ std::uint64_t query_chunks(const Segments& g, double d, bool autapses, Init&& in
           if (try_contact(g, pre, a, post, soma ? 0 : sd.dendrite[k], soma, d, ct)) found.push_back(ct);
         }
       });
-    }
+    });
     std::sort(found.begin(), found.end(), contact_less);
     sink(ch, found);
   });
@@ -347,16 +365,15 @@ std::vector<Contact> find_contacts(const Segments& g, double d, bool autapses, s
 std::vector<Contact> find_contacts_brute(const Segments& g, double d, bool autapses) {
   const Sides sd = sides_of(g);
   std::vector<Contact> out;
-  for (std::size_t q = 0; q < sd.axon.size(); ++q) {
-    const std::uint32_t pre = sd.owner_axon[q];
+  for_axon_segments(g, 0, g.neurons(), [&](std::uint32_t pre, std::uint64_t a) {
     for (std::size_t k = 0; k < sd.dendrite.size() + g.neurons(); ++k) {
       const bool soma = k >= sd.dendrite.size();
       const std::uint32_t post = soma ? static_cast<std::uint32_t>(k - sd.dendrite.size()) : sd.owner_dendrite[k];
       if (post == pre && (!autapses || soma)) continue;
       Contact ct;
-      if (try_contact(g, pre, sd.axon[q], post, soma ? 0 : sd.dendrite[k], soma, d, ct)) out.push_back(ct);
+      if (try_contact(g, pre, a, post, soma ? 0 : sd.dendrite[k], soma, d, ct)) out.push_back(ct);
     }
-  }
+  });
   std::sort(out.begin(), out.end(), contact_less);
   return out;
 }

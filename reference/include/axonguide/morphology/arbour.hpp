@@ -85,6 +85,9 @@ struct ArbourSample {
   std::uint8_t order;
 };
 std::vector<ArbourSample> arbour_samples(const Arbour& a);
+// The same order without copying points: each sample's index in Arbour::point and its
+// parent sample id (1: the soma), by sample id - 2.
+void sample_order(const Arbour& a, std::vector<std::uint32_t>& point_of, std::vector<std::uint32_t>& parent);
 
 // The point each point hangs on, by index in Arbour::point (every one made earlier): its
 // cone's previous point; for a cone's first point, its branch point (a lateral branch's

@@ -31,22 +31,45 @@ namespace axg::network {
 inline constexpr std::uint32_t kSomaSample = 1;
 inline constexpr std::uint32_t kNoSegment = 0;  // a root segment's parent on the axon side
 
-// Every neuron's segments, flat, neuron by neuron, by sample id.
+// Every neuron's segments, neuron by neuron, by sample id: a view over the arbours' own
+// points and steps (9 bytes a sample: its point, its proximal sample, its type), so that
+// detection does not copy the arbours. Accessors take the sample's neuron and its global
+// index k (neuron n's sample s is k = first[n] + s - 2). Move-only: the view points into
+// the arbours (or, built from polylines, into its own storage).
 struct Segments {
-  std::vector<std::uint64_t> first;       // neurons + 1: neuron n's samples 2.. at [first[n], first[n+1])
-  std::vector<core::Vec3> p1;             // the distal point, by sample
-  std::vector<std::uint64_t> up;          // the proximal point's index in p1 (a stem start: its own)
-  std::vector<std::uint32_t> parent;      // the parent segment's sample (kSomaSample for a root, or kNoSegment
-                                          // for a stem start, which is no segment)
-  std::vector<std::uint32_t> step;        // the step that made the distal point
-  std::vector<std::uint8_t> type;         // SWC type
+  std::vector<std::uint64_t> first;             // neurons + 1
+  std::vector<const core::Vec3*> points;        // by neuron: its points
+  std::vector<const std::uint32_t*> steps;      // by neuron: the step that made each point
+  std::vector<std::uint32_t> point;             // by sample: its index in its neuron's points
+  std::vector<std::uint32_t> up;                // by sample: its parent sample id (kSomaSample: a stem start)
+  std::vector<std::uint8_t> type;               // by sample: SWC type
   std::vector<core::Vec3> soma;
   double soma_radius = 0.0;
+  std::vector<core::Vec3> own_points;           // segments_from_polylines' storage
+  std::vector<std::uint32_t> own_steps;
+
+  Segments() = default;
+  Segments(Segments&&) = default;
+  Segments& operator=(Segments&&) = default;
+  Segments(const Segments&) = delete;
+  Segments& operator=(const Segments&) = delete;
+
   std::size_t neurons() const { return soma.size(); }
-  core::Vec3 p0(std::size_t k) const { return p1[up[k]]; }
-  bool is_segment(std::size_t k) const { return parent[k] != kNoSegment; }
-  std::uint32_t parent_of(std::uint32_t neuron, std::uint32_t sample) const {
-    return sample == kSomaSample ? kNoSegment : parent[first[neuron] + sample - 2];
+  std::size_t size() const { return point.size(); }
+  core::Vec3 p1(std::uint32_t n, std::uint64_t k) const { return points[n][point[k]]; }
+  // The proximal point (a stem start, which is no segment: its own).
+  core::Vec3 p0(std::uint32_t n, std::uint64_t k) const {
+    return up[k] == kSomaSample ? p1(n, k) : p1(n, first[n] + up[k] - 2);
+  }
+  std::uint32_t step(std::uint32_t n, std::uint64_t k) const { return steps[n][point[k]]; }
+  bool is_segment(std::uint64_t k) const { return up[k] != kSomaSample; }
+  // The parent segment of neuron n's sample: its parent sample, the soma (kSomaSample) when
+  // that is a stem start, kNoSegment for a stem start or the soma itself.
+  std::uint32_t parent_of(std::uint32_t n, std::uint32_t sample) const {
+    if (sample == kSomaSample) return kNoSegment;
+    const std::uint32_t u = up[first[n] + sample - 2];
+    if (u == kSomaSample) return kNoSegment;
+    return up[first[n] + u - 2] == kSomaSample ? kSomaSample : u;
   }
 };
 

@@ -67,6 +67,10 @@ struct MorphometryArgs {
 };
 int cmd_morphometry(const MorphometryArgs& args);
 
+// A file of a run's folder, whole; InputError "WHAT: cannot read PATH" when it cannot be
+// read (app/study_command.cpp; the assay and network commands read neurons.csv with it).
+std::string read_file(const std::filesystem::path& p, const char* what);
+
 struct NetworkArgs {
   std::string dir;   // a run's folder
   std::string out;   // empty: dir

@@ -1,7 +1,6 @@
 // `axonguide network DIR`: the network's statistics of a run (docs/methods.md §2.13):
 // network.csv, degrees.csv, synapses_per_connection.csv, connection_probability.csv and a plot.
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -23,14 +22,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw InputError(fmt::format("network: cannot read {}", p.string()));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // connections.csv: a synapse scene's (source,target,synapses,first_step) or a soma-contact
 // run's (source,target,step,length: one synapse a connection). Sorted by source then target,
@@ -96,10 +87,10 @@ int cmd_network(const NetworkArgs& args) {
   if (!manifest.contains("scene"))
     throw InputError(fmt::format("network: {}/manifest.json holds no scene: not a run's manifest", args.dir));
   const Scene scene = parse_scene(manifest["scene"].dump(), args.dir + "/manifest.json scene").scene;
-  const NeuronRows rows = read_neurons_csv(read_file(dir / "neurons.csv"),
+  const NeuronRows rows = read_neurons_csv(read_file(dir / "neurons.csv", "network"),
                                            fmt::format("network: {}", (dir / "neurons.csv").string()), scene.neurons.count);
   const std::vector<network::Edge> edges = read_connections(
-      read_file(dir / "connections.csv"), fmt::format("network: {}", (dir / "connections.csv").string()), rows.size());
+      read_file(dir / "connections.csv", "network"), fmt::format("network: {}", (dir / "connections.csv").string()), rows.size());
   const double um = scene.units.micrometres();
   const network::NetworkStats s = network::network_stats(rows.soma, edges, args.bin / um);
 

@@ -38,8 +38,6 @@ namespace axg::app {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace {
-
 std::string read_file(const fs::path& p, const char* what) {
   std::ifstream in(p, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot read {}", what, p.string()));
@@ -47,8 +45,6 @@ std::string read_file(const fs::path& p, const char* what) {
   ss << in.rdbuf();
   return ss.str();
 }
-
-}  // namespace
 
 int cmd_assay(const std::string& dir_name) {
   const fs::path dir(dir_name);

@@ -205,7 +205,7 @@ class Result:
             nodes.append((i, a))
         g.add_nodes_from(nodes)
         c = self.connections
-        if self._h.synapses() is not None:  # weight: the connection's realised synapse count
+        if "synapses" in c.dtype.names:  # a synapse scene: weight is the realised synapse count
             g.add_edges_from((s, t, {"weight": w, "step": st}) for s, t, w, st in
                              zip(c["source"].tolist(), c["target"].tolist(), c["synapses"].tolist(),
                                  c["first_step"].tolist()))

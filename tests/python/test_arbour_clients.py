@@ -21,6 +21,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from neuron_cells import load_cell, neuron_with_import3d
 from swc_rows import read_swc
 
 BINARY = os.environ.get("AXG_BINARY", "axonguide")
@@ -64,25 +65,13 @@ def pieces(rows):
 
 @pytest.fixture(scope="module")
 def neuron_h():
-    from neuron import h  # python3-neuron, installed by scripts/install-deps.sh
-    h.load_file("stdlib.hoc")
-    h.load_file("import3d.hoc")
-    return h
+    return neuron_with_import3d()
 
-
-def load(h, path):
-    for sec in list(h.allsec()):
-        h.delete_section(sec=sec)
-    reader = h.Import3d_SWC_read()
-    reader.quiet = 1
-    reader.input(str(path))
-    h.Import3d_GUI(reader, 0).instantiate(None)
-    return {sec.name(): sec for sec in h.allsec()}
 
 
 def check_in_neuron(h, path):
     rows = read_swc(path)
-    secs = load(h, path)
+    secs = load_cell(h, path)
     count, length = pieces(rows)
     axon = [s for name, s in secs.items() if name.startswith("axon")]
     dend = [s for name, s in secs.items() if name.startswith("dend")]

@@ -16,6 +16,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from neuron_cells import load_cell, neuron_with_import3d
 
 BINARY = os.environ.get("AXG_BINARY", "axonguide")
 SOURCE = Path(os.environ.get("AXG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
@@ -65,30 +66,21 @@ def test_edges_are_the_realised_synapses(out):
 
 @pytest.fixture(scope="module")
 def neuron_h():
-    from neuron import h  # python3-neuron, installed by scripts/install-deps.sh
-    h.load_file("stdlib.hoc")
-    h.load_file("import3d.hoc")
-    return h
+    return neuron_with_import3d()
 
 
 def sections(h, path):
     """The cell's sections by SONATA section id: NEURON's own numbering of what Import3d
     makes, soma[0] = 0, then axon[i] = 1 + i, then dend[j] = 1 + (axon sections) + j (by
     name, not h.allsec()'s order, which reloading cells in one session can change)."""
-    for sec in list(h.allsec()):
-        h.delete_section(sec=sec)
-    reader = h.Import3d_SWC_read()
-    reader.quiet = 1
-    reader.input(str(path))
-    h.Import3d_GUI(reader, 0).instantiate(None)
     by_type = {"soma": {}, "axon": {}, "dend": {}}
-    for sec in h.allsec():
-        name, index = sec.name().rstrip("]").split("[")
-        by_type[name][int(index)] = sec
+    for name, sec in load_cell(h, path).items():
+        kind, index = name.rstrip("]").split("[")
+        by_type[kind][int(index)] = sec
     ordered = []
-    for name in ("soma", "axon", "dend"):
-        assert sorted(by_type[name]) == list(range(len(by_type[name])))
-        ordered += [by_type[name][i] for i in range(len(by_type[name]))]
+    for kind in ("soma", "axon", "dend"):
+        assert sorted(by_type[kind]) == list(range(len(by_type[kind])))
+        ordered += [by_type[kind][i] for i in range(len(by_type[kind]))]
     return ordered
 
 

@@ -73,8 +73,6 @@ double steiner(double d, double la, double ld) {
   return 0.5 * M_PI * d * la * ld + M_PI * d * d * (la + ld) + 4.0 / 3.0 * M_PI * d * d * d;
 }
 
-bool same(const std::vector<network::Contact>& x, const std::vector<network::Contact>& y) { return x == y; }
-
 Scene culture_base() {
   return load_scene_file((data_dir() / "scenes" / "culture.json").string()).scene;
 }
@@ -206,7 +204,7 @@ void validate_synapses(const Options& o, Report& r) {
         const auto brute = network::find_contacts_brute(g, d, s.synapses->autapses);
         const network::Appositions a = network::group_appositions(g, fast, synapse_params(s));
         const network::Appositions b = network::group_appositions(g, brute, synapse_params(s));
-        const bool equal = same(fast, brute) && same(a.at, b.at) && a.contacts == b.contacts;
+        const bool equal = fast == brute && a.at == b.at && a.contacts == b.contacts;
         mismatched += !equal;
         t.push_back({std::to_string(seed), fmt::format("{}", d), seed == 2 ? "yes" : "no",
                      fmt::format("{}", s.arbours->sample_length), std::to_string(g.size()),

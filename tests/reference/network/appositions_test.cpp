@@ -194,8 +194,6 @@ rc::Gen<std::vector<std::vector<Polyline>>> gen_neurons(int count) {
   });
 }
 
-bool same_contacts(const std::vector<Contact>& x, const std::vector<Contact>& y) { return x == y; }
-
 RC_GTEST_PROP(appositions, TheHashFindsExactlyTheBruteForceContacts, ()) {
   const int count = *rc::gen::inRange(1, 7);
   const auto neurons = *gen_neurons(count);
@@ -206,7 +204,7 @@ RC_GTEST_PROP(appositions, TheHashFindsExactlyTheBruteForceContacts, ()) {
   const bool autapses = *rc::gen::arbitrary<bool>();
   const std::vector<Contact> fast = network::find_contacts(g, d, autapses);
   const std::vector<Contact> brute = network::find_contacts_brute(g, d, autapses);
-  RC_ASSERT(same_contacts(fast, brute));
+  RC_ASSERT(fast == brute);
   RC_TAG(fast.empty() ? "none" : "some");
   // Every contact within d, none of a neuron with itself unless asked, never its own soma.
   for (const Contact& c : fast) {
@@ -296,7 +294,7 @@ TEST(synapse_scene, TheRunWritesAppositionsConnectionsAndWeights) {
   EXPECT_EQ(r.graph.out.edges(), r.synapse_connections.size());
   // Synapse positions are on the post neuron's dendrites (or soma surface), within d of the axon.
   const network::Segments g = network::segments_of(r.arbours, r.soma, s.neurons.soma_radius);
-  EXPECT_TRUE(same_contacts(network::find_contacts(g, 3.0, false), network::find_contacts_brute(g, 3.0, false)));
+  EXPECT_TRUE(network::find_contacts(g, 3.0, false) == network::find_contacts_brute(g, 3.0, false));
 }
 
 TEST(synapse_scene, ThreadCountNeverChangesAByte) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "axonguide/accel/engines.hpp"
+#include "axonguide/engine/arbour_engine.hpp"
 #include "axonguide/model/particles.hpp"
 #include "axonguide/model/stencil.hpp"
 #include "axonguide/support/error.hpp"
@@ -76,6 +77,9 @@ std::uint64_t estimate_device_bytes(const Scene& scene) {
   // ids, soma keys/starts, sorted positions, tip, heading, length, status, steps,
   // target (slot and id order), two active lists, download scratch.
   double bytes = n * (4 + 8 + 24 + 24 + 24 + 8 + 1 + 4 + 4 + 4 + 8 + 24);
+  // Arbours: pools at up to twice what they hold (point 36 B; a cone and its entries under
+  // 80 B, at most one per point), and a second copy while they grow.
+  if (scene.arbours) bytes += n * expected_arbour_points(scene) * 2.0 * (36.0 + 80.0) * 2.0;
   if (scene.uses_cues()) {
     if (scene.cues.field == FieldKind::kParticles) {
       // position, velocity, id, source, keep, scratch copies, keys, index, sorted copies
@@ -89,25 +93,12 @@ std::uint64_t estimate_device_bytes(const Scene& scene) {
   return bytes >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
 }
 
-namespace {
-
-void refuse_arbours(const Scene& s, const char* backend) {
-  if (s.arbours)
-    throw RunError(fmt::format("--backend {}: the accelerator's arbour pipeline is designed (docs/scaling.md §2.6b), "
-                               "not built; arbour scenes run on the reference backend (--backend reference)",
-                               backend));
-}
-
-}  // namespace
-
 std::unique_ptr<Engine> make_emulated_engine(const Scene& scene, const Placement& placement) {
-  refuse_arbours(scene, "emulated");
   return emu::make_engine(scene, placement);
 }
 
 #if AXG_HAVE_CUDA_ENGINE
 std::unique_ptr<Engine> make_cuda_engine(const Scene& scene, const Placement& placement) {
-  refuse_arbours(scene, "cuda");
   gpu::require_device();
   std::uint64_t free_bytes = 0, total_bytes = 0;
   gpu::device_memory(&free_bytes, &total_bytes);

@@ -32,10 +32,12 @@
 #include "axonguide/core/signalling.hpp"
 #include "axonguide/core/steering.hpp"
 #include "axonguide/core/stencil.hpp"
+#include "axonguide/engine/arbour_engine.hpp"
 #include "axonguide/engine/axon_stages.hpp"
 #include "axonguide/engine/engine.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/estimate.hpp"
+#include "axonguide/model/arbours.hpp"
 #include "axonguide/model/growth.hpp"
 #include "axonguide/model/particles.hpp"
 #include "axonguide/model/sensing.hpp"
@@ -43,12 +45,16 @@
 #include "axonguide/model/stencil.hpp"
 #include "axonguide/model/steering.hpp"
 #include "axonguide/model/wander.hpp"
+#include "axonguide/morphology/arbour.hpp"
+#include "axonguide/morphology/arbour_step.hpp"
+#include "axonguide/support/error.hpp"
 
 // Files follow concepts: device (launch, atomics, sorted grids), growth, particles, grid
-// field, graph, and the engine that strings them into steps.
+// field, graph, arbours, and the engine that strings them into steps.
 #include "pipeline/device.inl"
 #include "pipeline/growth.inl"
 #include "pipeline/particles.inl"
 #include "pipeline/grid_field.inl"
 #include "pipeline/graph.inl"
+#include "pipeline/arbours.inl"
 #include "pipeline/engine.inl"

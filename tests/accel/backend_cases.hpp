@@ -39,12 +39,18 @@ inline Source repellent(Source s) {
 }
 
 // Every bundled scene, every golden scene, the default, and one small variant per field,
-// motion, scheme, boundary, steering model, sampler and contact rule. `small` shrinks the
+// motion, scheme, boundary, steering model, sampler and contact rule, and arbours. `small` shrinks the
 // bundled scenes (the CPU emulation runs its kernels on one thread).
 inline std::vector<NamedScene> backend_scenes(bool small) {
   std::vector<NamedScene> out;
   auto shrink = [&](Scene s) {
-    if (small && !s.neurons.populations.empty()) {
+    if (small && s.arbours && s.neurons.count > 150) {
+      // Arbours: at most 150 neurons at the same density, and at most 5 days of growth.
+      const double f = 150.0 / static_cast<double>(s.neurons.count);
+      s.neurons.count = 150;
+      s.neurons.radius *= s.neurons.shape == RegionShape::kDisc ? std::sqrt(f) : std::cbrt(f);
+      s.steps = std::min<std::uint32_t>(s.steps, static_cast<std::uint32_t>(120.0 / s.dt));
+    } else if (small && !s.neurons.populations.empty()) {
       // Populations: at most 300 neurons each, in their own balls (the region unchanged);
       // the particle field's emission at most 1000 per step.
       std::uint64_t total = 0;
@@ -71,9 +77,6 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
       Scene s = load_scene_file(f.string()).scene;
-      // The accelerator does not grow arbours (it refuses them with exit 3, tested in
-      // tests/reference/morphology/arbour_engine_test.cpp).
-      if (s.arbours) continue;
       out.push_back({std::filesystem::relative(f, root).string(), shrink(std::move(s))});
     }
   }
@@ -292,6 +295,45 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
     v.tweak(s);
     out.push_back({v.name, s});
   }
+  // Arbours (morphology/arbour_step.hpp) in length units: branching with an order
+  // dependence (S), lateral branches and stems at a rate, every field kind, decision sums,
+  // cones that stop at somas or pass them, points every step or every 0.2 LU. Every neuron's
+  // pools start small and grow many times.
+  struct ArbourVariant {
+    const char* name;
+    const char* field;
+    double integration_time;  // 1: every step
+    const char* soma_contact;
+    double sample_length;
+    const char* shape;
+  };
+  const ArbourVariant arbour_variants[] = {
+      {"arbours-particles-order-lateral-stems", "particles", 1.0, "stop", 0.2, "ball"},
+      {"arbours-particles-integrated", "particles", 3.0, "stop", 0.2, "ball"},
+      {"arbours-grid-pass-every-step", "grid", 1.0, "pass", 0.0, "ball"},
+      {"arbours-analytic-integrated-culture", "analytic", 2.5, "pass", 0.2, "disc"},
+      {"arbours-direct-stop", "direct", 1.0, "stop", 0.2, "ball"},
+  };
+  for (const ArbourVariant& v : arbour_variants) {
+    nlohmann::json j = scene_to_json(Scene::builtin_default());
+    j["neurons"]["count"] = 150;
+    j["neurons"]["region"]["shape"] = v.shape;
+    j["steps"] = 40;
+    j["output"]["paths"] = true;
+    j["output"]["swc"] = true;
+    j["guidance"]["integration_time"] = v.integration_time;
+    if (std::string(v.field) == "direct") j["guidance"]["model"] = "direct";
+    else j["cues"]["field"] = v.field;
+    j["arbours"] = {{"sample_length", v.sample_length},
+                    {"soma_contact", v.soma_contact},
+                    {"axon", {{"B", 4}, {"E", 0.3}, {"S", 0.5}, {"tau", 30}, {"v0", 0.1}, {"F", 0.3},
+                              {"rate_cv", 0.4}, {"angle", 1.0}, {"angle_sd", 0.3}, {"persistence_length", 5},
+                              {"stems", {0, 0.7, 0.3}}, {"stem_rate", 0.02}, {"lateral_rate", 0.05}}},
+                    {"dendrites", {{"B", 1}, {"E", 0.5}, {"S", 0.3}, {"tau", 20}, {"v0", 0.03}, {"F", 0.3},
+                                   {"rate_cv", 0.4}, {"angle", 1.0}, {"stems", {0, 0.2, 0.5, 0.3}},
+                                   {"stem_rate", 0.05}, {"lateral_rate", 0.1}}}};
+    out.push_back({v.name, parse_scene(j.dump(), v.name).scene});
+  }
   // The signalling growth model (core/signalling.hpp) on every field kind, from the units
   // variant (um, min, nM): rates set so that 50 steps of 30 min grow ~100-700 um.
   Scene units;
@@ -375,6 +417,45 @@ inline rc::Gen<Scene> gen_cue_scene() {
     s.cues.grid.boundary = *rc::gen::element(GridBoundary::kAbsorbing, GridBoundary::kReflecting);
     s.analysis.bfs_sources = {0};
     return s;
+  });
+}
+
+// Random arbour scenes (length units): branching, elongation, lateral branches and stems
+// drawn, on a random field and contact rule, with or without decision sums and synapses.
+inline rc::Gen<Scene> gen_arbour_scene() {
+  return rc::gen::exec([] {
+    nlohmann::json j = scene_to_json(Scene::builtin_default());
+    j["seed"] = *rc::gen::inRange<std::uint64_t>(0, 1u << 20);
+    j["neurons"]["count"] = *rc::gen::inRange(1, 80);
+    j["neurons"]["region"]["shape"] = *rc::gen::element<std::string>("ball", "disc", "box");
+    j["steps"] = *rc::gen::inRange(1, 30);
+    const std::string field = *rc::gen::element<std::string>("direct", "particles", "grid", "analytic", "imposed");
+    if (field == "direct") j["guidance"]["model"] = "direct";
+    else j["cues"]["field"] = field;
+    if (field == "imposed") j["cues"]["imposed"] = {{"direction", {1, 0, 0}}, {"steepness", 20}};
+    j["guidance"]["integration_time"] = *rc::gen::inRange(2, 9) / 2.0;
+    auto neurite = [](double v0) {
+      nlohmann::json n = {{"B", *rc::gen::inRange(0, 60) / 10.0},
+                          {"E", *rc::gen::inRange(0, 10) / 10.0},
+                          {"S", *rc::gen::inRange(0, 10) / 10.0},
+                          {"v0", v0 * *rc::gen::inRange(1, 20) / 10.0},
+                          {"F", *rc::gen::inRange(0, 10) / 10.0},
+                          {"rate_cv", *rc::gen::inRange(0, 10) / 10.0},
+                          {"angle", *rc::gen::inRange(1, 30) / 10.0},
+                          {"angle_sd", *rc::gen::inRange(0, 5) / 10.0},
+                          {"stems", {0.2, 0.5, 0.3}},
+                          {"stem_rate", *rc::gen::inRange(0, 10) / 100.0},
+                          {"lateral_rate", *rc::gen::inRange(0, 10) / 50.0}};
+      if (*rc::gen::arbitrary<bool>()) n["tau"] = *rc::gen::inRange(1, 50);
+      if (*rc::gen::arbitrary<bool>()) n["persistence_length"] = *rc::gen::inRange(1, 50) / 5.0;
+      return n;
+    };
+    j["arbours"] = {{"sample_length", *rc::gen::inRange(0, 5) / 10.0},
+                    {"soma_contact", *rc::gen::element<std::string>("stop", "pass")},
+                    {"axon", neurite(0.1)},
+                    {"dendrites", neurite(0.03)}};
+    if (*rc::gen::arbitrary<bool>()) j["synapses"] = {{"distance", 0.05}, {"probability", 0.5}};
+    return parse_scene(j.dump(), "random-arbours").scene;
   });
 }
 

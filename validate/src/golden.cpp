@@ -142,12 +142,6 @@ std::vector<GoldenResult> golden_check(const fs::path& dir, const EngineFactory&
       continue;
     }
     const Scene scene = load_scene_file((g / "scene.json").string()).scene;
-    if (make && scene.arbours) {
-      r.pass = false;
-      r.skipped = "the accelerator grows no arbours (designed in docs/scaling.md §2.6b, not built)";
-      results.push_back(std::move(r));
-      continue;
-    }
     const fs::path out = work / r.name;
     run_into(scene, out, make, threads);
     std::vector<std::string> names;

@@ -21,6 +21,10 @@ class AccelEngine final : public Engine {
         use_grid_(particle_grid_used(scene)),
         use_estimate_(particle_estimate_used(scene)) {
     build_somas(placement);
+    if (scene.arbours) {
+      start_arbours(placement);
+      return;
+    }
     const std::size_t n = placement.soma.size();
     tip_.resize(n);
     heading_.resize(n);
@@ -71,6 +75,23 @@ class AccelEngine final : public Engine {
   }
 
   void save(EngineState& out) override {
+    if (arbours_) {
+      const std::size_t n = soma_host_.size();
+      out.axons.resize(n);
+      out.heading.assign(n, Vec3{0, 0, 0});
+      out.step_length.clear();
+      out.connected = stats_.connected;
+      out.exited = stats_.exited;
+      out.guidance.clear();
+      out.signal.clear();
+      out.receptors.clear();
+      std::vector<morphology::Arbour> a;
+      arbours_->download(a, true);
+      out.arbour.clear();
+      morphology::append_arbours(a, out.arbour);
+      save_field(out);
+      return;
+    }
     const std::size_t n = tip_.size();
     out.axons.resize(n);
     out.heading.resize(n);
@@ -84,11 +105,6 @@ class AccelEngine final : public Engine {
     if (!step_length_.empty()) download_by_id(step_length_, out.step_length);
     out.connected = stats_.connected;
     out.exited = stats_.exited;
-    out.next_particle_id = next_id_;
-    copy_out(pos_, out.particle_pos);
-    copy_out(vel_, out.particle_vel);
-    copy_out(id_, out.particle_id);
-    copy_out(source_, out.particle_cue);
     out.signal.clear();
     out.receptors.clear();
     if (scene_.signalling()) {
@@ -117,6 +133,16 @@ class AccelEngine final : public Engine {
         if (status[k] == core::AxonStatus::kGrowing)
           std::copy_n(by_slot.data() + k * m, m, out.guidance.data() + static_cast<std::size_t>(ids[k]) * m);
     }
+    save_field(out);
+  }
+
+  // The cue field's state (particles, the estimate, the grid).
+  void save_field(EngineState& out) {
+    out.next_particle_id = next_id_;
+    copy_out(pos_, out.particle_pos);
+    copy_out(vel_, out.particle_vel);
+    copy_out(id_, out.particle_id);
+    copy_out(source_, out.particle_cue);
     out.grid.clear();
     if (use_estimate_) copy_out(estimate_, out.grid);
     if (scene_.uses_cues() && scene_.cues.field == FieldKind::kGrid) {
@@ -132,6 +158,23 @@ class AccelEngine final : public Engine {
   // The growing list is every growing slot in slot order (what compaction leaves); the
   // particle grid is rebuilt by the next step's advance before anything reads it.
   void load(const EngineState& in) override {
+    if (arbours_) {
+      std::vector<morphology::Arbour> a;
+      try {
+        a = morphology::read_arbours(in.arbour);
+      } catch (const std::runtime_error& e) {
+        throw RunError(e.what());
+      }
+      if (a.size() != soma_host_.size()) throw RunError("checkpoint: its arbours are not the scene's neurons");
+      for (const morphology::Arbour& x : a)
+        if (x.sums.size() != x.cones.size() * sums_per_cone_)
+          throw RunError("checkpoint: its growth cones' decision sums are not the scene's");
+      arbours_->upload(a);
+      stats_.connected = in.connected;
+      stats_.exited = in.exited;
+      load_field(in);
+      return;
+    }
     upload_by_id(in.axons.tip, tip_);
     upload_by_id(in.axons.length, length_);
     upload_by_id(in.axons.status, status_);
@@ -148,11 +191,6 @@ class AccelEngine final : public Engine {
     active_next_.resize(active_.capacity());
     stats_.connected = in.connected;
     stats_.exited = in.exited;
-    next_id_ = in.next_particle_id;
-    pos_.assign(in.particle_pos.begin(), in.particle_pos.end());
-    vel_.assign(in.particle_vel.begin(), in.particle_vel.end());
-    id_.assign(in.particle_id.begin(), in.particle_id.end());
-    source_.assign(in.particle_cue.begin(), in.particle_cue.end());
     if (in.guidance.size() != sums_.size())
       throw std::runtime_error("checkpoint: the decision sums do not match the scene's neurons and cues");
     if (sums_per_axon_) {
@@ -177,6 +215,16 @@ class AccelEngine final : public Engine {
       receptors_.assign(in.receptors.begin(), in.receptors.end());
       inhibition_from_receptors();
     }
+    load_field(in);
+  }
+
+  // The particle grid is rebuilt by the next step's advance before anything reads it.
+  void load_field(const EngineState& in) {
+    next_id_ = in.next_particle_id;
+    pos_.assign(in.particle_pos.begin(), in.particle_pos.end());
+    vel_.assign(in.particle_vel.begin(), in.particle_vel.end());
+    id_.assign(in.particle_id.begin(), in.particle_id.end());
+    source_.assign(in.particle_cue.begin(), in.particle_cue.end());
     if (use_estimate_) {
       if (in.grid.size() != estimate_.size())
         throw std::runtime_error("checkpoint: the particle estimate has " + std::to_string(in.grid.size()) +
@@ -197,6 +245,7 @@ class AccelEngine final : public Engine {
   }
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
+    if (arbours_) return step_arbours(step, times);
     if (scene_.uses_cues()) {
       advance_field(scene_.cues.warmup_steps + step, times);
       if (scene_.signalling()) {
@@ -238,6 +287,13 @@ class AccelEngine final : public Engine {
   }
 
   void tips(std::vector<Vec3>& out) override {
+    if (arbours_) {
+      std::vector<morphology::Arbour> a;
+      arbours_->download(a, false);
+      out.resize(a.size());
+      for (std::size_t i = 0; i < a.size(); ++i) out[i] = morphology::summarize(a[i], soma_host_[i]).farthest;
+      return;
+    }
     dvec<Vec3> by_id(tip_.size());
     launch(tip_.size(), ScatterBy<Vec3>{raw(tip_), raw(ids_), raw(by_id)});
     out.resize(tip_.size());
@@ -245,6 +301,19 @@ class AccelEngine final : public Engine {
   }
 
   void finish(NeuronState& out) override {
+    if (arbours_) {
+      std::vector<morphology::Arbour> a;
+      arbours_->download(a, false);
+      out.resize(a.size());
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        const morphology::ArbourSummary s = morphology::summarize(a[i], soma_host_[i]);
+        out.tip[i] = s.farthest;
+        out.length[i] = s.axon_length;
+        out.status[i] = s.growing ? core::AxonStatus::kMaxSteps : core::AxonStatus::kExited;
+        out.steps[i] = s.last_step;
+      }
+      return;
+    }
     launch(active_.size(), MarkMaxSteps{raw(active_), raw(status_)});
     const std::size_t n = tip_.size();
     out.resize(n);
@@ -260,6 +329,7 @@ class AccelEngine final : public Engine {
   // Edges from the per-axon slots: compacted (ascending source id), then CSR offsets as
   // the cell starts of the sorted sources; BFS and components on the device.
   bool analyze(const Scene& scene, GraphAnalysis& a) override {
+    if (arbours_) return false;  // the connections are the synapses', found on the host
     const std::size_t n = tip_.size();
     dvec<std::uint32_t> source(n);
     const auto end = thrust::copy_if(thrust::device, thrust::counting_iterator<std::uint32_t>(0),
@@ -293,7 +363,20 @@ class AccelEngine final : public Engine {
     return true;
   }
 
+  void arbours(std::vector<morphology::Arbour>& out) override {
+    if (!arbours_) return Engine::arbours(out);
+    arbours_->download(out, false);
+  }
+
+  void somas(std::vector<Vec3>& out) override {
+    if (!arbours_) return Engine::somas(out);
+    out = soma_host_;
+  }
+
   std::size_t bytes() const override {
+    if (arbours_) return arbours_->bytes() + soma_start_.size() * 4 + soma_pos_.size() * 24 + ids_.size() * 4 +
+                         pos_.capacity() * (24 + 8 + 2 + 1) + vel_.capacity() * 24 + grid_[0].size() * 8 +
+                         grid_[1].size() * 8;
     const std::size_t n = tip_.size();
     return n * (4 + 24 + 24 + 24 + 8 + 1 + 4 + 4 + 4 + 4) + step_length_.size() * 8 + soma_start_.size() * 4 +
            pos_.capacity() * (24 + 8 + 2 + 1) + vel_.capacity() * 24 + grid_[0].size() * 8 + grid_[1].size() * 8;
@@ -302,6 +385,54 @@ class AccelEngine final : public Engine {
   std::string note() const override { return grid_field_note(scene_, cues_host_); }
 
  private:
+  // Arbours: the stems at birth drawn on the host (the reference's start_arbour), then the
+  // pools on the device.
+  void start_arbours(const Placement& placement) {
+    arbour_params_ = arbour_params(scene_);
+    soma_host_.assign(placement.soma.begin(), placement.soma.end());
+    soma_by_id_.assign(placement.soma.begin(), placement.soma.end());
+    restarts_ = arbour_params_.axon.stem_rate > 0.0 || arbour_params_.dendrites.stem_rate > 0.0 ||
+                arbour_params_.axon.lateral_rate > 0.0 || arbour_params_.dendrites.lateral_rate > 0.0;
+    if (scene_.uses_cues()) init_field();
+    guide_ = guide_params(scene_, raw(cues_), static_cast<int>(cues_host_.size()));
+    clock_ = decision_clock(scene_);
+    sums_per_cone_ = clock_.sums() && scene_.uses_cues() ? cues_host_.size() * core::kSumsPerCue : 0;
+    const ArbourContext ctx = arbour_context();
+    std::vector<morphology::Arbour> a(soma_host_.size());
+    for (std::size_t i = 0; i < a.size(); ++i) start_arbour(ctx, static_cast<std::uint32_t>(i), soma_host_[i], a[i]);
+    arbours_ = std::make_unique<ArbourPools>(static_cast<std::uint32_t>(sums_per_cone_));
+    arbours_->upload(a);
+  }
+
+  ArbourContext arbour_context() const {
+    ArbourContext c{&arbour_params_, {}, nullptr, sums_per_cone_};
+    c.step.rules = arbour_params_.rules();
+    c.step.growth = growth_;
+    c.step.somas = somas_view();
+    c.step.seed = scene_.seed;
+    c.step.dt = scene_.dt;
+    c.step.soma_radius = scene_.neurons.soma_radius;
+    c.step.last_step = scene_.steps;
+    c.step.sums = sums_per_cone_ > 0;
+    return c;
+  }
+
+  StepStats step_arbours(std::uint32_t step, PhaseTimes& times) {
+    const bool steers = scene_.uses_cues();
+    if (steers) advance_field(scene_.cues.warmup_steps + step, times);
+    ScopedPhase phase(times, step, "grow");
+    morphology::ArbourStepContext ctx = arbour_context().step;
+    if (steers) ctx.decision = clock_.at(step);
+    const ArbourPools::StepCounts c =
+        arbours_->step(ctx, guide_, steers, FieldSampler{steers ? fields() : CueFields{}}, soma_by_id_, step, restarts_);
+    stats_.step = step;
+    stats_.growing = c.growing_neurons;
+    stats_.connected += c.soma;
+    stats_.exited += c.exited;
+    stats_.particles = pos_.size();
+    return stats_;
+  }
+
   template <class T>
   void download_by_id(dvec<T>& by_slot, std::vector<T>& out) {
     dvec<T> by_id(by_slot.size());
@@ -604,6 +735,12 @@ class AccelEngine final : public Engine {
   dvec<std::uint32_t> fail_id_;
   dvec<std::uint16_t> fail_code_;
   dvec<std::uint64_t> population_first_;
+  // Arbours (null: the scene grows axons).
+  std::unique_ptr<ArbourPools> arbours_;
+  ArbourParams arbour_params_;
+  std::vector<Vec3> soma_host_;  // by id
+  bool restarts_ = false;        // stems or lateral branches start at a rate
+  std::size_t sums_per_cone_ = 0;
 };
 
 std::unique_ptr<Engine> make_engine(const Scene& scene, const Placement& placement) {

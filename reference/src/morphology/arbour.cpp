@@ -21,6 +21,11 @@ void point_parents(const Arbour& a, std::vector<std::uint32_t>& out) {
   }
 }
 
+void link_cones(Arbour& a) {
+  a.last.assign(a.cones.size(), kNoPoint);
+  for (std::size_t i = 0; i < a.point.size(); ++i) a.last[a.cone_of[i]] = static_cast<std::uint32_t>(i);
+}
+
 void sample_order(const Arbour& a, std::vector<std::uint32_t>& point_of, std::vector<std::uint32_t>& parent) {
   const std::size_t cones = a.cones.size();
   std::vector<std::uint32_t> count(cones, 0), first(cones + 1, 0);
@@ -204,6 +209,7 @@ std::vector<Arbour> read_arbours(const std::vector<std::uint8_t>& in) {
       if (k.tree >= a.trees.size() || (k.parent != kNoCone && k.parent >= a.cones.size()) ||
           (k.attach != kNoPoint && (k.attach >= a.point.size() || a.cone_of[k.attach] != k.parent)))
         throw std::runtime_error("checkpoint: a cone of a tree, parent or branch point that does not exist");
+    link_cones(a);
   }
   if (!c.done()) throw std::runtime_error("checkpoint: bytes after the arbours");
   return out;

@@ -435,11 +435,6 @@ TEST(arbours, WhatIsNotBuiltIsRefusedBeforeAnythingRuns) {
   EXPECT_THROW(parse_scene(R"({"guidance": {"model": "snr"}, "axons": {"growth_modulation": 0.5},
       "cues": {"sources": [{"position": [0, 0, 0]}]}, "arbours": {}})", "s.json"), InputError);
   EXPECT_THROW(parse_scene(R"({"arbours": {"slab": 2}})", "s.json"), InputError);  // a layer needs a disc
-  test::TempDir dir;
-  const auto [code, out] = test::run_command(fmt::format("run {}/scenes/culture.json --backend emulated --out {}",
-                                                         test::source_dir(), (dir.path() / "o").string()));
-  EXPECT_EQ(code, 3) << out;
-  EXPECT_NE(out.find("arbour"), std::string::npos) << out;
 }
 
 // Scenes without arbours keep their canonical form: the section is written only when given.

@@ -12,36 +12,27 @@
 #include "axonguide/engine/engine.hpp"
 #include "axonguide/model/arbours.hpp"
 #include "axonguide/morphology/arbour.hpp"
+#include "axonguide/morphology/arbour_step.hpp"
 
 namespace axg {
 
 class CueField;
 
-// One step (1-based) of one neuron's arbour: new stems (at birth, step 0, from the stem
-// distributions), then every growing cone in index order steers by the cues (the per-step
-// rule: before it moves), elongates by v0 n^-F dt times its rate factor, moves, meets a
-// soma or the bounds, takes its heading's random walk and steers (the continuum rule: on
-// its path, after it moves), as an axon does (core/guide.hpp, the one body); then it may
-// branch into two daughters (the next indices), and new stems start at the stem rates.
-struct ArbourSteering {
-  const CueField* field = nullptr;  // null: no cues (guidance "direct")
-  const core::GuideParams* guide = nullptr;
-  core::Decision decision{};        // this step's place in its decision interval
-  std::size_t sums_per_cone = 0;    // 0: every interval is one step (no sums kept)
-};
+// One step (1-based) of one neuron's arbour: morphology/arbour_step.hpp's three phases
+// (the growing cones; lateral branches; new stems), on the arbour's own vectors. New stems
+// at birth (step 0) are drawn from the stem-count distributions (start_arbour).
 struct ArbourContext {
   const ArbourParams* params;
-  const core::GrowthParams* growth;  // contact radius, bounds and rule
-  const core::CellGridView* somas;
-  std::uint64_t seed;
-  double dt;
-  double soma_radius;
-  std::uint32_t last_step;  // the scene's steps: every cone makes a point at its end
-  ArbourSteering steering{};
+  morphology::ArbourStepContext step;  // its guide and decision set when the cones steer
+  const CueField* field = nullptr;     // null: no cues (guidance "direct")
+  std::size_t sums_per_cone = 0;       // 0: every decision interval is one step (no sums kept)
 };
 void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, morphology::Arbour& a);
+// `stopped[0]` and `[1]` gain the cones that stopped at a soma and at the bounds.
 void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, std::uint32_t step,
-                 morphology::Arbour& a);
+                 morphology::Arbour& a, std::uint32_t stopped[2]);
+// Throws the run error of a failed step (morphology::ArbourFail) of `neuron`.
+void arbour_fail(morphology::ArbourFail fail, std::uint32_t neuron);
 
 // The expected points per neuron (a pilot of 64 topology-only trees per neurite type,
 // morphology/tree_process.hpp, times the expected stems): the memory estimate's.

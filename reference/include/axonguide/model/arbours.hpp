@@ -15,6 +15,7 @@
 
 #include "axonguide/core/arbour.hpp"
 #include "axonguide/core/branching.hpp"
+#include "axonguide/core/hd.hpp"
 
 namespace axg {
 
@@ -61,13 +62,27 @@ nlohmann::json write_arbour_keys(const ArbourKeys& keys);
 // Checks against the rest of the scene (the region, the guidance, the steps).
 void check_arbours(const Scene& s);
 
-struct NeuriteParams {
+// What one neurite type's growth cones follow in a step (trivially copyable: the
+// accelerator's kernels take it as it is; morphology/arbour_step.hpp applies it).
+struct ConeRules {
   core::BranchingParams branching;
   core::ElongationParams elongation;
   core::ConeGeometry geometry;
-  std::vector<double> stems_cdf;  // cumulative P(k stems at birth)
   double stem_rate = 0.0;
   double lateral_rate = 0.0;  // per length unit per time unit
+};
+struct ArbourRules {
+  ConeRules axon, dendrites;
+  bool planar = false;
+  double slab = 0.0;
+  double sample_length = 0.0;
+  bool stop_at_soma = true;
+  AXG_HD const ConeRules& of(std::uint8_t type) const { return type == 2 ? axon : dendrites; }  // SWC type 2: axon
+};
+
+// The rules plus what only the host reads: the stem counts at birth and the diameters.
+struct NeuriteParams : ConeRules {
+  std::vector<double> stems_cdf;  // cumulative P(k stems at birth)
   double diameter = 1.0, taper = 1.0;
 };
 
@@ -77,6 +92,7 @@ struct ArbourParams {
   double slab = 0.0;
   double sample_length = 0.0;
   bool stop_at_soma = true;
+  ArbourRules rules() const { return {axon, dendrites, planar, slab, sample_length, stop_at_soma}; }
 };
 
 ArbourParams arbour_params(const Scene& s);

@@ -53,6 +53,10 @@ struct Tree {
   std::uint32_t born = 0;       // step
   int growing = 0;              // its cones still growing (n of the BESTL model)
   std::vector<int> by_order;    // its growing cones per centrifugal order
+  // At the start of the step being taken (morphology/arbour_step.hpp; not stored): its
+  // growing cones, and C = the mean of 2^(-S order) over them.
+  int n = 0;
+  double mean_weight = 1.0;
 };
 
 struct Arbour {
@@ -60,18 +64,22 @@ struct Arbour {
   std::vector<std::uint32_t> cone_of;  // the cone that made each point
   std::vector<std::uint32_t> step_of;  // the step that made each point (a stem's start: its birth step)
   std::vector<Cone> cones;             // by index
+  std::vector<std::uint32_t> last;     // each cone's last point (kNoPoint before it makes one)
   std::vector<Tree> trees;             // by index
-  std::vector<std::uint32_t> growing;  // the growing cones, in index order
-  // Cue steering over decision intervals: the open interval's sums of each growing cone, in
-  // `growing` order, core::kSumsPerCue per cue (empty without them).
+  std::vector<std::uint32_t> growing;  // the growing cones: those still growing from the last step, then the new ones
+  // Cue steering over decision intervals: the open interval's sums of each cone, by cone
+  // index, core::kSumsPerCue per cue (empty without them); a stopped cone's are left as they were.
   std::vector<double> sums;
 
   std::size_t bytes() const {
     return point.capacity() * sizeof(core::Vec3) + cone_of.capacity() * 4 + step_of.capacity() * 4 +
-           cones.capacity() * sizeof(Cone) +
+           cones.capacity() * sizeof(Cone) + last.capacity() * 4 +
            trees.capacity() * sizeof(Tree) + growing.capacity() * 4 + sums.capacity() * sizeof(double);
   }
 };
+
+// Rebuilds Arbour::last from the points' cones (a checkpoint does not store it).
+void link_cones(Arbour& a);
 
 // The arbour as SWC samples (ids from 2; the soma is sample 1): the cones in index order,
 // each cone's points in order. A stem's first point's parent is the soma; a daughter's
@@ -93,6 +101,7 @@ void sample_order(const Arbour& a, std::vector<std::uint32_t>& point_of, std::ve
 // cone's previous point; for a cone's first point, its branch point (a lateral branch's
 // attach point, or a daughter's parent's last point); kNoPoint for a stem's first point.
 void point_parents(const Arbour& a, std::vector<std::uint32_t>& out);
+
 
 // Summary numbers of one arbour (neurons.csv for arbour scenes).
 struct ArbourSummary {

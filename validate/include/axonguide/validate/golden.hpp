@@ -17,9 +17,6 @@ struct GoldenResult {
   std::string name;
   bool pass = true;
   bool verified = true;  // false: the network's files do not match its provenance (not run)
-  // The backend cannot run the network (the accelerator grows no arbours): not run, not a
-  // pass; `skipped` says why.
-  std::string skipped;
   std::vector<std::string> differences;  // "neurons.csv line 17: expected ... got ...", or why unverified
 };
 

@@ -426,9 +426,9 @@ inline rc::Gen<Scene> gen_arbour_scene() {
   return rc::gen::exec([] {
     nlohmann::json j = scene_to_json(Scene::builtin_default());
     j["seed"] = *rc::gen::inRange<std::uint64_t>(0, 1u << 20);
-    j["neurons"]["count"] = *rc::gen::inRange(1, 80);
+    j["neurons"]["count"] = *rc::gen::inRange(1, 40);
     j["neurons"]["region"]["shape"] = *rc::gen::element<std::string>("ball", "disc", "box");
-    j["steps"] = *rc::gen::inRange(1, 30);
+    j["steps"] = *rc::gen::inRange(1, 25);
     const std::string field = *rc::gen::element<std::string>("direct", "particles", "grid", "analytic", "imposed");
     if (field == "direct") j["guidance"]["model"] = "direct";
     else j["cues"]["field"] = field;

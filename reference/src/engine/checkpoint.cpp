@@ -26,11 +26,13 @@ namespace {
 
 // Format 2 added the sums of the open decision interval (EngineState::guidance); format 3
 // the arbours (EngineState::arbour); format 4 the growth cones' own decision sums (cue
-// steering of arbours).
-constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '4'};
+// steering of arbours); format 5 keeps those sums by cone index rather than by growing
+// cone (morphology::Arbour::sums, shared by both engines).
+constexpr char kMagic[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '5'};
 constexpr char kMagicFormat1[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '1'};
 constexpr char kMagicFormat2[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '2'};
 constexpr char kMagicFormat3[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '3'};
+constexpr char kMagicFormat4[8] = {'A', 'X', 'G', 'C', 'K', 'P', 'T', '4'};
 constexpr std::uint32_t kByteOrder = 0x01020304;
 
 static_assert(sizeof(core::Vec3) == 24 && std::is_trivially_copyable_v<core::Vec3>);
@@ -216,7 +218,8 @@ RunCheckpoint read_checkpoint(const fs::path& path) {
   char magic[sizeof kMagic];
   in.bytes(magic, sizeof magic);
   int earlier = 0;
-  for (const auto& [old, format] : {std::pair{kMagicFormat1, 1}, std::pair{kMagicFormat2, 2}, std::pair{kMagicFormat3, 3}})
+  for (const auto& [old, format] : {std::pair{kMagicFormat1, 1}, std::pair{kMagicFormat2, 2}, std::pair{kMagicFormat3, 3},
+                                    std::pair{kMagicFormat4, 4}})
     if (std::memcmp(magic, old, sizeof kMagic) == 0) earlier = format;
   if (earlier)
     throw RunError(fmt::format("the checkpoint {} was written by an earlier version of axonguide (checkpoint format {}); "

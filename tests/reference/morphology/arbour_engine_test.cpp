@@ -229,15 +229,19 @@ TEST(arbours, ACheckpointCarriesTheConesDecisionSums) {
   }
 }
 
-// An earlier checkpoint format (3: arbours without the cones' sums) is refused by name.
+// Earlier checkpoint formats (3: arbours without the cones' sums; 4: the sums by growing
+// cone) are refused by name.
 TEST(arbours, AnEarlierCheckpointFormatIsRefusedByName) {
-  test::TempDir dir;
-  std::ofstream(dir.path() / kCheckpointName, std::ios::binary) << "AXGCKPT3" << std::string(4096, '\0');
-  try {
-    read_checkpoint(dir.path() / kCheckpointName);
-    FAIL() << "a format-3 checkpoint was read";
-  } catch (const RunError& e) {
-    EXPECT_NE(std::string(e.what()).find("checkpoint format 3"), std::string::npos) << e.what();
+  for (const char* format : {"3", "4"}) {
+    test::TempDir dir;
+    std::ofstream(dir.path() / kCheckpointName, std::ios::binary)
+        << "AXGCKPT" << format << std::string(4096, '\0');
+    try {
+      read_checkpoint(dir.path() / kCheckpointName);
+      FAIL() << "a format-" << format << " checkpoint was read";
+    } catch (const RunError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("checkpoint format ") + format), std::string::npos) << e.what();
+    }
   }
 }
 

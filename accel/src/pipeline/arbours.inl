@@ -20,7 +20,7 @@ struct DeviceTree {
   std::uint32_t born = 0;
   int growing = 0;
   int n = 0;
-  double mean_weight = 1.0;
+  double mean_weight = 1.0, grow = 0.0, branching = 0.0, probability = 0.0;
 };
 
 // One neuron's pools: where they start in the shared arrays, their capacities and what they

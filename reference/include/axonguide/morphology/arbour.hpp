@@ -54,9 +54,10 @@ struct Tree {
   int growing = 0;              // its cones still growing (n of the BESTL model)
   std::vector<int> by_order;    // its growing cones per centrifugal order
   // At the start of the step being taken (morphology/arbour_step.hpp; not stored): its
-  // growing cones, and C = the mean of 2^(-S order) over them.
+  // growing cones n, C = the mean of 2^(-S order) over them, the elongation v0 n^-F dt,
+  // the branching exponent's tree part and the branching probability at S = 0.
   int n = 0;
-  double mean_weight = 1.0;
+  double mean_weight = 1.0, grow = 0.0, branching = 0.0, probability = 0.0;
 };
 
 struct Arbour {

@@ -5,7 +5,8 @@
 // (accel/src/pipeline/arbours.inl). The storage is a template parameter `A` with:
 //   points: point_count(), point(i), cone_of(i), parent_of(i), push_point(at, cone, step, parent)
 //   cones:  cone_count(), cone(c), last_of(c), push_cone(cone) (its sums zero), sums(c), sums_per_cone()
-//   trees:  tree_count(), tree(t) (.type .born .growing .n .mean_weight), push_tree(type, born),
+//   trees:  tree_count(), tree(t) (.type .born .growing, and the step's .n .mean_weight .grow
+//           .branching .probability), push_tree(type, born),
 //           count_order(t, order, delta), mean_weight(t, s, n) (core::mean_order_weight over the
 //           tree's growing cones by order)
 //   growing cones: growing_count(), growing(g), set_growing(g, cone) (g <= count), resize_growing(n)
@@ -163,13 +164,18 @@ AXG_HDI bool grow_cones(const ArbourStepContext& ctx, const Field& field, std::u
   const std::uint32_t n_growing = a.growing_count();
   const std::uint32_t first_daughter = a.cone_count();
   // What a tree's cones share over the step, from n and C at its start (the rule holds
-  // them over the step): n for the elongation v0 n^-F dt and the branching exponent, and C.
+  // them over the step): the elongation v0 n^-F dt, the branching exponent's tree part, C,
+  // and (S = 0: no order dependence) the branching probability itself.
   for (std::uint32_t t = 0; t < a.tree_count(); ++t) {
     auto& tree = a.tree(t);
     tree.n = tree.growing;
     if (tree.n == 0) continue;
-    const double s = P.of(tree.type).branching.s;
+    const ConeRules& p = P.of(tree.type);
+    const double s = p.branching.s;
     tree.mean_weight = s == 0.0 ? 1.0 : a.mean_weight(t, s, tree.n);
+    tree.grow = core::elongation(p.elongation, tree.n, dt);
+    tree.branching = core::tree_branching(p.branching, t0 - static_cast<double>(tree.born) * dt, dt, tree.n);
+    tree.probability = core::cone_branch_probability(tree.branching, s, 0, tree.mean_weight);  // S = 0: every cone's
   }
   std::uint32_t kept = 0;
   for (std::uint32_t g = 0; g < n_growing; ++g) {
@@ -179,7 +185,7 @@ AXG_HDI bool grow_cones(const ArbourStepContext& ctx, const Field& field, std::u
     const Cone c0 = a.cone(idx);
     const ConeRules& p = P.of(c0.type);
     const auto& tree = a.tree(c0.tree);
-    const double l = core::elongation(p.elongation, tree.n, dt) * c0.rate;
+    const double l = tree.grow * c0.rate;
     // Move, then contact and bounds (core/growth.hpp's step; contact only when cones stop at somas).
     core::AxonStep st;
     if (P.stop_at_soma) {
@@ -215,9 +221,9 @@ AXG_HDI bool grow_cones(const ArbourStepContext& ctx, const Field& field, std::u
                  a);
     }
     const Cone& c = a.cone(idx);
-    const double branching = core::tree_branching(p.branching, t0 - static_cast<double>(tree.born) * dt, dt, tree.n);
-    const double q = core::cone_branch_probability(branching, p.branching.s, p.branching.s == 0.0 ? 0 : c.order,
-                                                   tree.mean_weight);
+    const double q = p.branching.s == 0.0
+                         ? tree.probability
+                         : core::cone_branch_probability(tree.branching, p.branching.s, c.order, tree.mean_weight);
     if (!(q > 0.0) || !core::branches(q, ctx.seed, key, step)) {
       if (c.unsampled >= P.sample_length || step == ctx.last_step) add_point(a, idx, c.tip, step);
       a.set_growing(kept++, idx);

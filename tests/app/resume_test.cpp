@@ -233,6 +233,11 @@ TEST(resume, AKilledArbourRunResumesToTheSameBytes) {
   for (const char* point : {"placement", "setup", "step 3", "checkpoint 8", "step 13", "output neurons.csv",
                             "output synapses.csv", "output paths.csv", "checkpoint 20", "manifest"})
     t.kill_and_resume(point, "reference", "reference");
+  // The accelerator's arbours (its CPU build): killed and resumed on itself, and a
+  // checkpoint of either engine resumed on the other.
+  for (const char* point : {"step 13", "checkpoint 20"}) t.kill_and_resume(point, "emulated", "emulated");
+  t.kill_and_resume("step 13", "emulated", "reference");
+  t.kill_and_resume("checkpoint 8", "reference", "emulated");
 }
 
 // kill -9 at random times once the run has claimed its folder (its running manifest is

@@ -391,8 +391,7 @@ class AccelEngine final : public Engine {
     arbour_params_ = arbour_params(scene_);
     soma_host_.assign(placement.soma.begin(), placement.soma.end());
     soma_by_id_.assign(placement.soma.begin(), placement.soma.end());
-    restarts_ = arbour_params_.axon.stem_rate > 0.0 || arbour_params_.dendrites.stem_rate > 0.0 ||
-                arbour_params_.axon.lateral_rate > 0.0 || arbour_params_.dendrites.lateral_rate > 0.0;
+    restarts_ = arbours_restart(arbour_params_);
     if (scene_.uses_cues()) init_field();
     guide_ = guide_params(scene_, raw(cues_), static_cast<int>(cues_host_.size()));
     clock_ = decision_clock(scene_);
@@ -404,17 +403,9 @@ class AccelEngine final : public Engine {
     arbours_->upload(a);
   }
 
+  // The kernels set the guide themselves (StepArbours).
   ArbourContext arbour_context() const {
-    ArbourContext c{&arbour_params_, {}, nullptr, sums_per_cone_};
-    c.step.rules = arbour_params_.rules();
-    c.step.growth = growth_;
-    c.step.somas = somas_view();
-    c.step.seed = scene_.seed;
-    c.step.dt = scene_.dt;
-    c.step.soma_radius = scene_.neurons.soma_radius;
-    c.step.last_step = scene_.steps;
-    c.step.sums = sums_per_cone_ > 0;
-    return c;
+    return axg::arbour_context(scene_, arbour_params_, growth_, somas_view(), nullptr, sums_per_cone_);
   }
 
   StepStats step_arbours(std::uint32_t step, PhaseTimes& times) {

@@ -108,7 +108,9 @@ class VectorArbour {
 };
 thread_local std::vector<std::uint32_t> VectorArbour::parents_;
 
-void check(morphology::ArbourFail fail, std::uint32_t neuron) {
+}  // namespace
+
+void arbour_fail(morphology::ArbourFail fail, std::uint32_t neuron) {
   switch (fail) {
     case morphology::ArbourFail::kNone:
       return;
@@ -123,9 +125,24 @@ void check(morphology::ArbourFail fail, std::uint32_t neuron) {
   }
 }
 
-}  // namespace
+ArbourContext arbour_context(const Scene& scene, const ArbourParams& params, const core::GrowthParams& growth,
+                             const core::CellGridView& somas, const CueField* field, std::size_t sums_per_cone) {
+  ArbourContext c{&params, {}, field, sums_per_cone};
+  c.step.rules = params.rules();
+  c.step.growth = growth;
+  c.step.somas = somas;
+  c.step.seed = scene.seed;
+  c.step.dt = scene.dt;
+  c.step.soma_radius = scene.neurons.soma_radius;
+  c.step.last_step = scene.steps;
+  c.step.sums = sums_per_cone > 0;
+  return c;
+}
 
-void arbour_fail(morphology::ArbourFail fail, std::uint32_t neuron) { check(fail, neuron); }
+bool arbours_restart(const ArbourParams& p) {
+  return p.axon.stem_rate > 0.0 || p.dendrites.stem_rate > 0.0 || p.axon.lateral_rate > 0.0 ||
+         p.dendrites.lateral_rate > 0.0;
+}
 
 void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, Arbour& a) {
   core::Rng rng(ctx.step.seed, core::Stream::kStems, neuron, 0);
@@ -138,7 +155,7 @@ void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 som
     morphology::new_stem(sc, neuron, soma, kAxonType, 0, store, &fail);
   for (int k = 0; k < dendrites && fail == morphology::ArbourFail::kNone; ++k)
     morphology::new_stem(sc, neuron, soma, kDendriteType, 0, store, &fail);
-  check(fail, neuron);
+  arbour_fail(fail, neuron);
 }
 
 void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, std::uint32_t step, Arbour& a,
@@ -158,7 +175,7 @@ void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma
       morphology::new_stems(sc, neuron, soma, step, events, store, &fail);
     }
   }
-  check(fail, neuron);
+  arbour_fail(fail, neuron);
 }
 
 double expected_arbour_points(const Scene& scene) {
@@ -229,8 +246,7 @@ class ArbourEngine final : public Engine {
     arbours_.resize(soma_.size());
     // Stems start at a rate, or lateral branches along the grown path: a neuron without
     // growing cones may grow again.
-    restarts_ = params_.axon.stem_rate > 0.0 || params_.dendrites.stem_rate > 0.0 || params_.axon.lateral_rate > 0.0 ||
-                params_.dendrites.lateral_rate > 0.0;
+    restarts_ = arbours_restart(params_);
     const ArbourContext ctx = context();
     tbb::parallel_for(std::size_t{0}, soma_.size(), [&](std::size_t i) {
       start_arbour(ctx, static_cast<std::uint32_t>(i), soma_[i], arbours_[i]);
@@ -348,16 +364,8 @@ class ArbourEngine final : public Engine {
 
  private:
   ArbourContext context() const {
-    ArbourContext c{&params_, {}, field_.get(), sums_per_cone_};
-    c.step.rules = params_.rules();
-    c.step.growth = growth_;
-    c.step.somas = view_;
-    c.step.seed = scene_.seed;
-    c.step.dt = scene_.dt;
-    c.step.soma_radius = scene_.neurons.soma_radius;
-    c.step.last_step = scene_.steps;
+    ArbourContext c = arbour_context(scene_, params_, growth_, view_, field_.get(), sums_per_cone_);
     c.step.guide = field_ ? &guide_ : nullptr;
-    c.step.sums = sums_per_cone_ > 0;
     return c;
   }
 

@@ -27,11 +27,17 @@ struct ArbourContext {
   const CueField* field = nullptr;     // null: no cues (guidance "direct")
   std::size_t sums_per_cone = 0;       // 0: every decision interval is one step (no sums kept)
 };
+// The context of a scene's arbours, shared by both engines (the guide is set by the
+// engine that steers: the reference's host copy, or the kernels' own).
+ArbourContext arbour_context(const Scene& scene, const ArbourParams& params, const core::GrowthParams& growth,
+                             const core::CellGridView& somas, const CueField* field, std::size_t sums_per_cone);
+// Stems or lateral branches start at a rate: a neuron without growing cones may grow again.
+bool arbours_restart(const ArbourParams& p);
 void start_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, morphology::Arbour& a);
 // `stopped[0]` and `[1]` gain the cones that stopped at a soma and at the bounds.
 void step_arbour(const ArbourContext& ctx, std::uint32_t neuron, core::Vec3 soma, std::uint32_t step,
                  morphology::Arbour& a, std::uint32_t stopped[2]);
-// Throws the run error of a failed step (morphology::ArbourFail) of `neuron`.
+// Throws the run error of a failed step (morphology::ArbourFail) of `neuron`; nothing for kNone.
 void arbour_fail(morphology::ArbourFail fail, std::uint32_t neuron);
 
 // The expected points per neuron (a pilot of 64 topology-only trees per neurite type,

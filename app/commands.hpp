@@ -100,6 +100,7 @@ struct FitArgs {
   int polish = 4;
   double target_se = 1.0 / 3.0;
   bool mirror = true;
+  bool antithetic = true;
   std::vector<std::string> params, corrections;
   std::string bias_metric;
   double gain_lo = 1, gain_hi = 1000;

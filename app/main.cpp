@@ -146,7 +146,7 @@ int dispatch(int argc, char** argv) {
   fit_cmd->add_option("--max-chi2", fit.max_chi2, "Exit 1 when chi2/dof is above this")->capture_default_str()
       ->check(finite)->check(CLI::PositiveNumber);
   fit_cmd->add_flag("--scale", fit.scale, "Also fit a scale on the nominal concentrations");
-  fit_cmd->add_option("--seeds", fit.seeds, "Seeds per model point to start with (more are added for --target-se)")
+  fit_cmd->add_option("--seeds", fit.seeds, "Seeds per model point of the grid search (more are added at its best for --target-se)")
       ->capture_default_str()->check(CLI::Range(1, 1000));
   fit_cmd->add_option("--max-seeds", fit.max_seeds, "The most seeds --target-se may take")->capture_default_str()
       ->check(CLI::Range(1, 1000));
@@ -155,6 +155,8 @@ int dispatch(int argc, char** argv) {
   fit_cmd->add_option("--target-se", fit.target_se, "Model SE / data SE to reach at every point (0: off)")
       ->capture_default_str()->check(finite)->check(CLI::Range(0.0, 10.0));
   fit_cmd->add_flag("!--no-mirror", fit.mirror, "Do not also run every seed with the gradient mirrored");
+  fit_cmd->add_flag("!--no-antithetic", fit.antithetic,
+                    "Run the mirror images with the first runs' decision draws, not their negatives");
   fit_cmd->add_flag("--profile", fit.profile, "Morphometric data: profile intervals (slow) instead of the curvature's");
   fit_cmd->add_option("--param", fit.params,
                       "NAME or NAME=LO:HI, repeatable: a parameter to fit (gain, kd, scale, or a signalling parameter) "

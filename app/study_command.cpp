@@ -311,6 +311,7 @@ int cmd_fit(const FitArgs& args) {
   o.polish_iterations = args.polish;
   o.target_se_ratio = args.target_se;
   o.mirror = args.mirror;
+  o.antithetic = args.antithetic;
   for (const auto& p : args.params) o.parameters.push_back(parse_param(p));
   for (const auto& c : args.corrections) o.corrections.push_back(parse_correction(c));
   o.bias_metric = args.bias_metric;
@@ -428,6 +429,7 @@ int cmd_fit(const FitArgs& args) {
                   {"max_chi2_per_dof", args.max_chi2},
                   {"seeds", r.seeds.size()},
                   {"mirror", o.mirror},
+                  {"antithetic", o.mirror && o.antithetic},
                   {"target_se_ratio", o.target_se_ratio},
                   {"model_se_ratio_max", r.se_ratio_max},
                   {"evaluations", r.evaluations.size()},
@@ -453,7 +455,8 @@ int cmd_fit(const FitArgs& args) {
   fmt::print("          chi2 {:.3f} on {} degrees of freedom: chi2/dof = {:.3f} (threshold {})\n", r.chi2, r.dof,
              r.chi2_per_dof, args.max_chi2);
   fmt::print("          {} seeds{}; model SE / data SE at most {:.3f} (target {:.3f})\n", r.seeds.size(),
-             o.mirror ? ", each with its mirror image" : "", r.se_ratio_max, o.target_se_ratio);
+             o.mirror ? (o.antithetic ? ", each with its antithetic mirror image" : ", each with its mirror image") : "",
+             r.se_ratio_max, o.target_se_ratio);
   fmt::print("          {} parameter sets, {} runs, {:.1f} s ({:.1f} runs/s); {} value{} the model cannot reach\n",
              r.evaluations.size(), r.runs, wall, fit_wall > 0 ? r.runs / fit_wall : 0.0, unreachable,
              unreachable == 1 ? "" : "s");

@@ -66,16 +66,8 @@ CellGrid local_soma_grid(const Scene& scene, const RankSomas& somas, std::vector
     lo = s == 0 ? p : Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = s == 0 ? p : Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  double cell = soma_grid_geometry(scene).cell;
-  const double limit = 2.0 * static_cast<double>(somas.pos.size()) + 64.0;
-  auto count = [&](double lo_a, double hi_a) { return std::max(1.0, std::ceil((hi_a - lo_a) / cell + 1e-9)); };
-  while (count(lo.x, hi.x) * count(lo.y, hi.y) * count(lo.z, hi.z) > limit) cell *= 1.25;
-  GridGeometry g;
-  g.origin = lo;
-  g.cell = cell;
-  g.nx = static_cast<int>(count(lo.x, hi.x));
-  g.ny = static_cast<int>(count(lo.y, hi.y));
-  g.nz = static_cast<int>(count(lo.z, hi.z));
+  const GridGeometry g = box_geometry(lo, hi, soma_grid_geometry(scene).cell,
+                                      2.0 * static_cast<double>(somas.pos.size()) + 64.0);
   CellGrid grid = build_cell_grid(g, somas.pos);
   order = grid.ids;
   for (std::uint32_t& k : grid.ids) k = somas.id[k];  // local index -> neuron id (both ascending)

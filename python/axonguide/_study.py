@@ -203,14 +203,14 @@ def _base_text(base):
 
 def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0, kd_min=None, kd_max=None,
         grid=7, refine=2, threads=None, backend="reference", mirror=True, target_se=1.0 / 3.0, max_seeds=64,
-        params=None, corrections=None, bias_metric="", polish=4):
+        params=None, corrections=None, bias_metric="", polish=4, antithetic=True):
     """`axonguide fit DATA --scene BASE` (docs/methods.md §12.3): fits the model's parameters
     (SNR: gain and K_d, with scale=True a scale on the nominal concentrations; signalling:
     r0, kext, a1b; or `params`) to measured directional bias and/or radial outgrowth.
     data: a CSV path (the columns of `axonguide fit`), a dict of columns, or rows. seeds: a count (seeds 1..N, as --seeds) or a list. grid and refine are
     --grid and --refine; kd_min/kd_max bound the coarse K_d grid (None: from the data).
-    mirror, target_se, max_seeds, bias_metric: --no-mirror, --target-se, --max-seeds,
-    --bias-metric; polish: --polish (Gauss-Newton steps from the grid's best); params: names or (name, lo, hi) tuples (--param); corrections: a dict
+    mirror, antithetic, target_se, max_seeds, bias_metric: --no-mirror, --no-antithetic,
+    --target-se, --max-seeds, --bias-metric; polish: --polish (Gauss-Newton steps from the grid's best); params: names or (name, lo, hi) tuples (--param); corrections: a dict
     {steepness: factor} (--correct).
     Returns a FitResult. The GIL is released while the model runs; Ctrl-C stops it at the end
     of the runs' current steps and raises KeyboardInterrupt."""
@@ -243,7 +243,7 @@ def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0
                   check_int(grid, "fit: grid", 2, 50), check_int(refine, "fit: refine", 0, 10), check_backend(backend),
                   check_flag(mirror, "fit: mirror"), check_number(target_se, "fit: target_se"),
                   check_int(max_seeds, "fit: max_seeds", 1, 1000), param_list, correction_list, bias_metric,
-                  check_int(polish, "fit: polish", 0, 20))
+                  check_int(polish, "fit: polish", 0, 20), check_flag(antithetic, "fit: antithetic"))
     d["evaluations"] = dict(d["evaluations"])
     d["data"] = dict(d["data"])
     return FitResult(d)

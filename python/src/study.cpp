@@ -189,7 +189,7 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
                  const std::string& backend, bool mirror, double target_se, std::size_t max_seeds,
                  const std::vector<std::tuple<std::string, double, double>>& params,
                  const std::vector<std::pair<double, double>>& corrections, const std::string& bias_metric,
-                 int polish) {
+                 int polish, bool antithetic) {
   // The options' limits are checked by fit::fit, for the command line and for this alike.
   scene_from_text(base_text, origin);  // SceneError for a bad base scene
   const json base = parse_json_strict(base_text, origin);
@@ -205,6 +205,7 @@ py::dict fit_run(const std::string& base_text, const std::string& origin, const 
   o.coarse = grid;
   o.refine_rounds = refine;
   o.mirror = mirror;
+  o.antithetic = antithetic;
   o.target_se_ratio = target_se;
   o.max_seeds = max_seeds;
   o.polish_iterations = polish;
@@ -337,7 +338,7 @@ void bind_study(py::module_& m) {
         py::arg("threads"), py::arg("seeds"), py::arg("scale"), py::arg("gain_min"), py::arg("gain_max"),
         py::arg("kd_min"), py::arg("kd_max"), py::arg("grid"), py::arg("refine"), py::arg("backend"),
         py::arg("mirror"), py::arg("target_se"), py::arg("max_seeds"), py::arg("params"), py::arg("corrections"),
-        py::arg("bias_metric"), py::arg("polish"));
+        py::arg("bias_metric"), py::arg("polish"), py::arg("antithetic"));
 }
 
 }  // namespace axg::py_api

@@ -129,6 +129,12 @@ inline std::vector<NamedScene> backend_scenes(bool small) {
       {"particles-snr-noise-binding", [](Scene& s) { s.guidance.noise = NoiseForm::kBinding; }},
       {"particles-snr-noise-snapshot", [](Scene& s) { s.guidance.noise = NoiseForm::kSnapshot; }},
       {"particles-snr-sensing-count", [](Scene& s) { use_count_sensing(s); }},
+      // Antithetic decisions (guidance.antithetic): the snapshot SNR and the count dipole.
+      {"particles-snr-snapshot-antithetic", [](Scene& s) {
+         s.guidance.noise = NoiseForm::kSnapshot;
+         s.guidance.antithetic = true;
+       }},
+      {"particles-snr-count-antithetic", [](Scene& s) { s.guidance.antithetic = true; }},
       {"imposed-linear-snr", [](Scene& s) {
          s.cues.field = FieldKind::kImposed;
          s.cues.imposed.profile = ImposedProfile::kLinear;

@@ -159,6 +159,7 @@ def test_fit_refuses_bad_data_and_options(tmp_path):
     for kw, message in ((dict(grid=2.9), "grid = 2.9"), (dict(seeds=True), "seeds = True"),
                         (dict(seeds=[1, 1]), "seed 1 is given twice"), (dict(max_seeds=-1), "max_seeds = -1"),
                         (dict(gain_min=math.nan), "gain_min = nan"), (dict(mirror="no"), "mirror = 'no'"),
+                        (dict(antithetic=1), "antithetic = 1"),
                         (dict(corrections=[1, 2]), "corrections"), (dict(params=[("gain",)]), "params"),
                         (dict(bias_metric="x"), "bias_metric"), (dict(target_se=math.inf), "target_se")):
         with pytest.raises(axonguide.InputError, match=message.replace("(", r"\(")):

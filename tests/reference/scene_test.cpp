@@ -419,9 +419,11 @@ RC_GTEST_PROP(scene, AcceptedModelOptionsRoundTrip, ()) {
   if (s.cues.particles.estimate.spacing)
     s.cues.particles.estimate.spacing = std::min(*s.cues.particles.estimate.spacing, s.guidance.sensing_radius);
   if (*rc::gen::arbitrary<bool>()) s.guidance.receptor_time = *rc::gen::inRange(0, 1000) / 16.0;
+  s.guidance.antithetic = *rc::gen::arbitrary<bool>();
   const std::string text = scene_to_json(s).dump();
   const Scene back = parse_scene(text, "t").scene;
   RC_ASSERT(scene_to_json(back).dump() == text);
+  RC_ASSERT(back.guidance.antithetic == s.guidance.antithetic);
   RC_ASSERT(back.axons.step_length == s.axons.step_length);
   RC_ASSERT(back.axons.persistence_length == s.axons.persistence_length);
   RC_ASSERT(back.molecule_amount() == s.molecule_amount());

@@ -690,5 +690,33 @@ TEST(fit, MirroringKeepsTheBiasAndCancelsTheExplantsAsymmetry) {
   EXPECT_LT(std::fabs(mm[fit::kBias][1]), 1e-12);
 }
 
+// Antithetic mirror images (guidance.antithetic in the mirror run) on the SNR explant: the
+// pair's mean bias is the plain mirrored pair's (within their SEs; both are means of
+// equally likely samples of the model) and its SE over seeds is well below it, since the
+// decisions' noise cancels too; without a gradient the pair's bias is still zero to
+// rounding (the two runs make the same turns in space, the sides drawn where there is no
+// evidence included).
+TEST(fit, AntitheticMirrorsKeepTheSnrBiasAndCancelTheDecisionsNoise) {
+  json base = json::parse(test::read_file(std::filesystem::path(AXG_SOURCE_DIR) / "scenes/assay-explant.json"));
+  base["neurons"]["populations"][0]["count"] = 250;
+  base["steps"] = 60;
+  const std::vector<fit::Parameter> ps{{"gain", 1, 1000}};
+  const std::vector<std::pair<double, double>> pts{{1.0, 0.3}, {0.01, 0.2}, {1.0, 0.0}};
+  fit::Options o;
+  o.seeds = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+  std::vector<double> am[fit::kMeasures], as[fit::kMeasures], mm[fit::kMeasures], ms[fit::kMeasures];
+  fit::predict(base, pts, ps, {40}, o, am, as);
+  o.antithetic = false;
+  fit::predict(base, pts, ps, {40}, o, mm, ms);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double a = am[fit::kBias][i], m = mm[fit::kBias][i];
+    EXPECT_LT(std::fabs(a - m), 3 * std::hypot(as[fit::kBias][i], ms[fit::kBias][i])) << i << ": " << a << " against " << m;
+    EXPECT_LT(as[fit::kBias][i], 0.5 * ms[fit::kBias][i]) << i << ": SE " << as[fit::kBias][i] << " against "
+                                                          << ms[fit::kBias][i];
+  }
+  EXPECT_GT(am[fit::kBias][0], 5 * as[fit::kBias][0]);
+  EXPECT_LT(std::fabs(am[fit::kBias][2]), 1e-12);
+}
+
 }  // namespace
 }  // namespace axg

@@ -31,6 +31,7 @@ void read_steering_keys(ObjectReader& r, SteeringKeys& g) {
   r.choice("decision", g.decision, {{"per_interval", DecisionRule::kPerInterval}, {"per_step", DecisionRule::kPerStep}});
   r.optional_number("integration_time", g.integration_time, positive());
   r.optional_number("receptor_time", g.receptor_time, non_negative());
+  r.boolean("antithetic", g.antithetic);
 }
 
 void read_modulation_keys(ObjectReader& r, ModulationKeys& a) {
@@ -47,6 +48,9 @@ void write_steering_keys(const SteeringKeys& g, nlohmann::json& j) {
   j["decision"] = name_of(g.decision);
   j["integration_time"] = g.integration_time ? json(*g.integration_time) : json(nullptr);
   j["receptor_time"] = g.receptor_time ? json(*g.receptor_time) : json(nullptr);
+  // Written only when set: a run without it keeps its canonical scene, and so its hash
+  // (checkpoints, golden provenance), byte for byte.
+  if (g.antithetic) j["antithetic"] = true;
 }
 
 void write_modulation_keys(const ModulationKeys& a, nlohmann::json& j) { j["growth_modulation"] = a.growth_modulation; }
@@ -212,6 +216,7 @@ core::SteerParams steer_params(const Scene& scene) {
   p.vector_weight = scene.guidance.vector_weight;
   p.noise = scene.guidance.noise;
   p.modulation = scene.axons.growth_modulation;
+  p.decision_sign = scene.guidance.antithetic ? -1.0 : 1.0;
   const DecisionClock clock = decision_clock(scene);
   if (clock.per_step) return p;  // the report's instantaneous SNR
   const double t = clock.time;

@@ -163,10 +163,11 @@ double scale_of(const std::vector<Parameter>& ps, const Params& p) {
   return 1.0;
 }
 
-// The sweeps of one parameter set: the points zipped, one spec per mirror image.
+// The sweeps of one parameter set: the points zipped, one spec per mirror image; the mirror
+// image's decisions antithetic where asked.
 std::vector<sweep::Spec> specs_for(const json& base, const std::vector<std::pair<double, double>>& pts,
                                    const std::vector<Parameter>& ps, const Params& p,
-                                   const std::vector<std::uint64_t>& seeds, bool mirror) {
+                                   const std::vector<std::uint64_t>& seeds, bool mirror, bool antithetic) {
   std::vector<sweep::Spec> out;
   for (int side = 0; side < (mirror ? 2 : 1); ++side) {
     sweep::Spec s;
@@ -176,6 +177,7 @@ std::vector<sweep::Spec> specs_for(const json& base, const std::vector<std::pair
       json& d = s.base["cues"]["imposed"]["direction"];
       if (d.is_null()) d = json::array({1.0, 0.0, 0.0});
       for (auto& x : d) x = -x.get<double>();
+      if (antithetic) s.base["guidance"]["antithetic"] = true;
     }
     s.base_origin = "fit";
     s.zip = true;
@@ -208,13 +210,15 @@ std::string describe(const std::vector<Parameter>& ps, const Params& p) {
 // measure's mean and SE over seeds per set and point. Per seed, a mirrored pair gives the
 // mean of its two values, each measured along its own run's gradient axis: the explant's
 // random asymmetry (the same in both, since the seed is) adds +a to one bias and -a to the
-// other, and cancels.
+// other, and cancels. With antithetic decisions in the mirror image (Options::antithetic)
+// the two axons of a neuron turn the same way in space at every decision the evidence does
+// not settle, so the decisions' noise cancels too (docs/methods.md §12.3).
 Evaluated evaluate(const json& base, const std::vector<std::pair<double, double>>& pts,
                    const std::vector<Parameter>& ps, const std::vector<Params>& sets, const Options& o,
                    const std::vector<std::uint64_t>& seeds, const std::string& bias_metric, std::size_t& runs) {
   std::vector<sweep::Spec> specs;
   for (const Params& p : sets)
-    for (auto& s : specs_for(base, pts, ps, p, seeds, o.mirror)) specs.push_back(std::move(s));
+    for (auto& s : specs_for(base, pts, ps, p, seeds, o.mirror, o.antithetic)) specs.push_back(std::move(s));
   const std::size_t S = seeds.size(), sides = o.mirror ? 2 : 1, per_side = pts.size() * S;
   const std::size_t per = per_side * sides;
   const std::vector<sweep::MemberResult> results = sweep::run_in_memory(specs, o.threads, o.run);
@@ -472,7 +476,7 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
     Params low(k), high(k);
     for (std::size_t j = 0; j < k; ++j) low[j] = r.parameters[j].lo, high[j] = r.parameters[j].hi;
     for (const Params& p : {low, high})
-      for (const sweep::Spec& s : specs_for(base, pts, r.parameters, p, {1}, o.mirror))
+      for (const sweep::Spec& s : specs_for(base, pts, r.parameters, p, {1}, o.mirror, o.antithetic))
         for (std::size_t i = 0; i < pts.size(); ++i) {
           try {
             parse_scene(sweep::member_scene_json(s, i).dump(), origin);
@@ -485,27 +489,31 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
         }
   }
 
-  // The seeds: a pilot at the centre of the coarse grid measures each point's spread over
-  // seeds; enough seeds are then taken for model SE <= target x data SE at every point.
-  r.seeds = o.seeds;
-  if (o.seeds.size() >= 2 && o.target_se_ratio > 0) {
-    Params centre(k);
-    for (std::size_t j = 0; j < k; ++j) centre[j] = exp_of(0.5 * (lo[j] + hi[j]));
-    const Evaluated pilot = evaluate(base, pts, r.parameters, {centre}, o, o.seeds, r.bias_metric, r.runs);
+  // The seeds. The grid and its refinements, which only locate the best, run on the first
+  // two given seeds (the fewest an SE needs). At the grid's best the model is run on all the
+  // given seeds (a measurement of the spread, not an evaluation), and the spread sets how
+  // many seeds make its SE at most target x data SE at every point; the polish and the
+  // intervals use those. `se_of(q)` is the model's SE of residual q on `n` seeds; the seeds
+  // it asks for are at least 2 and at most max_seeds, the given seeds first.
+  auto seeds_for = [&](auto se_of, std::size_t n) {
     double need = 2.0;
-    for (const auto& res : r.residuals) {
-      const double se = pilot.se[0][res.measure][res.point];
+    for (std::size_t q = 0; q < r.residuals.size(); ++q) {
+      const double se = se_of(q);
       if (!std::isfinite(se)) continue;
-      const double sd = se * std::sqrt(static_cast<double>(o.seeds.size()));
-      const double want = sd / (o.target_se_ratio * data.points[res.point].se[res.measure]);
+      const auto [i, m] = r.residuals[q];
+      const double want = se * std::sqrt(static_cast<double>(n)) / (o.target_se_ratio * data.points[i].se[m]);
       need = std::max(need, std::ceil(want * want));
     }
-    // At least 2 (an SE needs two), at most max_seeds; the pilot's seeds come first.
-    const std::size_t want = std::max<std::size_t>(2, std::min(static_cast<std::size_t>(need), o.max_seeds));
-    if (want < r.seeds.size()) r.seeds.resize(want);
+    const std::size_t want = std::max<std::size_t>(2, std::min(static_cast<std::size_t>(std::min(need, 1e6)), o.max_seeds));
+    std::vector<std::uint64_t> seeds = o.seeds;
+    if (want < seeds.size()) seeds.resize(want);
     std::uint64_t next = *std::max_element(o.seeds.begin(), o.seeds.end()) + 1;
-    while (r.seeds.size() < want) r.seeds.push_back(next++);
-  }
+    while (seeds.size() < want) seeds.push_back(next++);
+    return seeds;
+  };
+  const bool targeted = o.seeds.size() >= 2 && o.target_se_ratio > 0;
+  r.seeds = o.seeds;
+  if (targeted) r.seeds.resize(2);
 
   r.model_min.assign(r.residuals.size(), HUGE_VAL);
   r.model_max.assign(r.residuals.size(), -HUGE_VAL);
@@ -573,6 +581,27 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
       lo[j] = c - step;
       hi[j] = c + step;
     }
+  }
+  // The seeds at the grid's best: the model's spread over all the given seeds there sets the
+  // seeds. Where they are more than the grid's, the best is evaluated again on them, and the
+  // polish and the intervals go on from it using only evaluations on these seeds (a chi2 on
+  // other seeds is not comparable); otherwise the grid's seeds stay.
+  std::size_t same_seeds = 0;  // the first evaluation on the final seeds
+  auto restart_on = [&](std::vector<std::uint64_t> seeds) {
+    r.seeds = std::move(seeds);
+    same_seeds = r.evaluations.size();
+    const Params best = r.best;
+    r.chi2 = HUGE_VAL;
+    r.best.clear();
+    consider(score({best}));
+    if (r.best.empty())
+      throw RunError(fmt::format("fit: the grid's best gave no defined model on {} seeds", r.seeds.size()));
+  };
+  if (targeted) {
+    const Evaluated spread = evaluate(base, pts, r.parameters, {r.best}, o, o.seeds, r.bias_metric, r.runs);
+    std::vector<std::uint64_t> need = seeds_for(
+        [&](std::size_t q) { return spread.se[0][r.residuals[q].measure][r.residuals[q].point]; }, o.seeds.size());
+    if (need.size() > r.seeds.size()) restart_on(std::move(need));
   }
   // The polish: Gauss-Newton in log parameters from the grid's best. Each iteration takes
   // the model's Jacobian J by forward differences (common seeds make them smooth), solves
@@ -690,7 +719,9 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
     return std::min(lowest, c1);
   };
   for (std::size_t j = 0; j < k; ++j) {
-    Interval iv = profile_interval(r.evaluations, j, r.best[j], r.interval_delta);
+    const std::vector<Evaluation> comparable(r.evaluations.begin() + static_cast<std::ptrdiff_t>(same_seeds),
+                                             r.evaluations.end());
+    Interval iv = profile_interval(comparable, j, r.best[j], r.interval_delta);
     // Each side's crossing of min + Delta on the profile itself: from the linearised
     // half-width h = sqrt(Delta (J'WJ)^-1_jj), a step t -> t sqrt(Delta / dchi2(t)) (exact for
     // a parabola) until it moves by < 5 %, at most 4 profile points; a crossing beyond the

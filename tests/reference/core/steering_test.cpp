@@ -137,6 +137,44 @@ TEST(steering, TurnTowardProbabilityIsPhiOfSnr) {
   }
 }
 
+// Antithetic decisions (SteerParams::decision_sign = -1, guidance.antithetic): P(toward) is
+// still Phi(SNR); a cue and its mirror image (the gradient negated), decided on the same
+// draws with the mirror's antithetic, give the same heading in space unless -SNR < Z < SNR,
+// a fraction 2 Phi(SNR) - 1 of the neurons; and where there is no evidence the drawn side
+// is negated with the draw, so the two turn the same way.
+TEST(steering, AntitheticDecisionsKeepPhiAndTurnTheMirrorImageTheSameWay) {
+  const SteerParams p = snr_params();
+  SteerParams anti = p;
+  anti.decision_sign = -1.0;
+  const Vec3 h{0, 0, 1};
+  const CueParams cue = cue_of(1);
+  const int n = 40000;
+  for (double target : {0.25, 1.0}) {
+    const double mu = target / (p.gain * snr_occupancy(0.5) * std::sqrt(0.5));
+    const CueSample s = exact_cue({1, 0, 1}, 0.5, mu), mirror = exact_cue({-1, 0, -1}, 0.5, mu);
+    int toward = 0, differ = 0;
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t id = static_cast<std::uint32_t>(i);
+      toward += snr_steer(h, &s, &cue, 1, sense(), anti, 1, id, 5).heading.x > 0;
+      const Vec3 plain = snr_steer(h, &s, &cue, 1, sense(), p, 1, id, 5).heading;
+      const Vec3 image = snr_steer(h, &mirror, &cue, 1, sense(), anti, 1, id, 5).heading;
+      differ += !(plain == image);
+    }
+    const double expect = gsl_cdf_ugaussian_P(target), split = 2 * expect - 1;
+    EXPECT_NEAR(static_cast<double>(toward) / n, expect, 4 * std::sqrt(expect * (1 - expect) / n)) << target;
+    EXPECT_NEAR(static_cast<double>(differ) / n, split, 4 * std::sqrt(split * (1 - split) / n)) << target;
+  }
+  const CueSample parallel = exact_cue({0, 0, 1}, 0.5, 0.01);
+  int sides = 0;
+  for (std::uint32_t i = 0; i < 100; ++i) {
+    const Vec3 plain = snr_steer(h, &parallel, &cue, 1, sense(), p, 1, i, 5).heading;
+    EXPECT_EQ(plain, snr_steer(h, &parallel, &cue, 1, sense(), anti, 1, i, 5).heading) << i;
+    sides += plain.x > 0;
+  }
+  EXPECT_GT(sides, 20);  // the side is random
+  EXPECT_LT(sides, 80);
+}
+
 double p_toward(double gamma, NoiseForm noise, double mu = 0.004) {
   SteerParams p = snr_params();
   p.noise = noise;

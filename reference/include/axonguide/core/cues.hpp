@@ -86,6 +86,9 @@ struct SteerParams {
   double gain;
   double vector_weight;       // beta
   double modulation;          // m in [0, 1): growth-rate modulation (0: off)
+  // +1, or -1 for the antithetic image of a run (guidance.antithetic): every normal deviate
+  // of a decision and every random side is negated, an equally likely sample of the model.
+  double decision_sign = 1.0;
 };
 
 }  // namespace axg::core

@@ -24,6 +24,14 @@
 // the only noise.
 //
 // `vector_sum` / `source_vector_sum`: h <- normalise(h + beta sum_k pull_k).
+//
+// Antithetic runs (guidance.antithetic; SteerParams::decision_sign = -1): every normal
+// deviate of a decision (X = |E| - Z; the count dipole's noise -z) and every random side
+// (-u) is negated. Z and -Z, u and -u have the same law, so such a run is an equally likely
+// sample of the model. `fit` gives it to the mirror image of each run: where the mirror
+// run's evidence is the negative of the first's, the two then turn the same way in space
+// whatever Z is, except where the evidence decides, and their noise cancels in the pair's
+// mean bias (docs/methods.md §12.3).
 #include <cmath>
 
 #include "cues.hpp"
@@ -126,14 +134,14 @@ AXG_HDI Steered count_steer(Vec3 h, const CueSample* samples, const CueParams* c
     double z0, z1, z2, unused;
     normal_pair(noise, &z0, &z1);
     normal_pair(noise, &z2, &unused);
-    d += sd * Vec3{z0, z1, z2};
+    d += sd * (p.decision_sign * Vec3{z0, z1, z2});
   }
   const double along = sd > 0.0 ? dot(d, h) / sd : 0.0;
   const Vec3 perp = d - dot(d, h) * h;
   const double pn = norm(perp);
   if (!(pn >= kParallelSin * (sd > 1.0 ? sd : 1.0) && pn < HUGE_VAL)) {
     Rng side(seed, Stream::kSteerPerpendicular, neuron, decision);
-    return {turn(h, perpendicular_direction(h, side), true, p), along};
+    return {turn(h, p.decision_sign * perpendicular_direction(h, side), true, p), along};
   }
   return {turn(h, perp / pn, true, p), along};
 }
@@ -161,10 +169,10 @@ AXG_HDI Steered snr_steer(Vec3 h, const CueSample* samples, const CueParams* cue
   if (!any) return {h, 0.0};
   const double strength = norm(e);
   Rng draw(seed, Stream::kSteerDecision, neuron, decision);
-  const bool toward = strength + normal(draw) > 0.0;
+  const bool toward = strength + p.decision_sign * normal(draw) > 0.0;
   if (!(strength >= kParallelSin && strength < HUGE_VAL)) {
     Rng side(seed, Stream::kSteerPerpendicular, neuron, decision);
-    return {turn(h, perpendicular_direction(h, side), toward, p), along};
+    return {turn(h, p.decision_sign * perpendicular_direction(h, side), toward, p), along};
   }
   return {turn(h, e / strength, toward, p), along};
 }

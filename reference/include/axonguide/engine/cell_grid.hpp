@@ -21,10 +21,14 @@ struct GridGeometry {
 // A cube [-half, half]^3 divided into cells of edge >= min_cell, with at most about
 // max_cells cells (the edge grows to respect it).
 GridGeometry cube_geometry(double half, double min_cell, double max_cells);
+// The box [lo, hi] from its lower corner in cells of edge `cell`, the edge grown by 1.25 at
+// a time while there are more than max_cells.
+GridGeometry box_geometry(core::Vec3 lo, core::Vec3 hi, double cell, double max_cells);
 
 struct Scene;
-// The soma grid covers the region; cells are at least one contact diameter wide and
-// about one per neuron, so a step visits a handful of cells.
+// The soma grid covers the region (or, with populations, their balls); cells are at least
+// one contact diameter wide and about one per neuron (in the densest population), so a
+// step visits a handful of cells.
 GridGeometry soma_grid_geometry(const Scene& s);
 
 struct CellGrid {

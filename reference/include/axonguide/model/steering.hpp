@@ -1,7 +1,7 @@
 #pragma once
 // Steering (SPEC §3.5; docs/methods.md §2.7, §2.8): the keys that choose and tune the
 // growth cone's decision (guidance.model, noise, turn_angle, gain, vector_weight, decision,
-// integration_time, receptor_time) and its growth-rate modulation (axons.growth_modulation),
+// integration_time, receptor_time, antithetic) and its growth-rate modulation (axons.growth_modulation),
 // their reading and canonical form, the decision's clock, and the parameters that
 // core/steering.hpp's and core/guide.hpp's formulas get.
 #include <cstdint>
@@ -43,6 +43,10 @@ struct SteeringKeys {
   // limit (binding: 0, binding events are Poisson and the SNR grows as sqrt(T); snapshot:
   // infinite, one reading of the occupancy whose SNR does not grow with T).
   std::optional<double> receptor_time;
+  // The antithetic image of the run: every decision's normal deviates and random sides
+  // negated (core/steering.hpp); an equally likely sample of the model. `fit` runs each
+  // mirror image of a point this way (docs/methods.md §12.3).
+  bool antithetic = false;
 };
 
 struct ModulationKeys {
@@ -50,7 +54,7 @@ struct ModulationKeys {
 };
 
 // guidance.{model, noise, turn_angle, gain, vector_weight, decision, integration_time,
-// receptor_time}, and axons.growth_modulation.
+// receptor_time, antithetic}, and axons.growth_modulation.
 void read_steering_keys(ObjectReader& guidance, SteeringKeys& keys);
 void read_modulation_keys(ObjectReader& axons, ModulationKeys& keys);
 void write_steering_keys(const SteeringKeys& keys, nlohmann::json& guidance);

@@ -66,6 +66,10 @@ struct Options {
   int threads = 0;
   std::vector<std::uint64_t> seeds{1, 2, 3, 4};  // the first seeds; more are added as needed
   bool mirror = true;            // run every seed with the gradient and with its mirror image
+  // The mirror image's decisions antithetic (guidance.antithetic): the pair's decision noise
+  // cancels with the explant's asymmetry. Only with mirror; no effect on a model without
+  // random decisions.
+  bool antithetic = true;
   double target_se_ratio = 1.0 / 3.0;  // model SE / data SE to reach at every point
   std::size_t max_seeds = 64;    // the most seeds the target may ask for
   bool fit_scale = false;        // SNR default parameters: also a concentration scale

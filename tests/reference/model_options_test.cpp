@@ -106,6 +106,11 @@ const std::vector<Option>& options() {
          s.neurons.populations = {{half, {-0.45 * R, 0.0, 0.0}, 0.5 * R},
                                   {s.neurons.count - half, {0.45 * R, 0.0, 0.0}, 0.5 * R}};
        }},
+      {"antithetic decisions (count)", [](Scene& s) { s.guidance.antithetic = true; }},
+      {"antithetic decisions (snapshot)", [](Scene& s) {
+         s.guidance.antithetic = true;
+         s.guidance.noise = NoiseForm::kSnapshot;
+       }},
       {"persistence off", [](Scene& s) { s.axons.persistence_length.reset(); }},
       {"persistence 0.5", [](Scene& s) { s.axons.persistence_length = 0.5; }},
       {"persistence 0.5, direct", [](Scene& s) {

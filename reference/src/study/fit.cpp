@@ -598,9 +598,15 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
       throw RunError(fmt::format("fit: the grid's best gave no defined model on {} seeds", r.seeds.size()));
   };
   if (targeted) {
-    const Evaluated spread = evaluate(base, pts, r.parameters, {r.best}, o, o.seeds, r.bias_metric, r.runs);
-    std::vector<std::uint64_t> need = seeds_for(
-        [&](std::size_t q) { return spread.se[0][r.residuals[q].measure][r.residuals[q].point]; }, o.seeds.size());
+    // With two seeds given, the grid's own evaluation of the best is the measurement.
+    std::vector<std::uint64_t> need;
+    if (o.seeds.size() > r.seeds.size()) {
+      const Evaluated spread = evaluate(base, pts, r.parameters, {r.best}, o, o.seeds, r.bias_metric, r.runs);
+      need = seeds_for([&](std::size_t q) { return spread.se[0][r.residuals[q].measure][r.residuals[q].point]; },
+                       o.seeds.size());
+    } else {
+      need = seeds_for([&](std::size_t q) { return r.model_se[q]; }, r.seeds.size());
+    }
     if (need.size() > r.seeds.size()) restart_on(std::move(need));
   }
   // The polish: Gauss-Newton in log parameters from the grid's best. Each iteration takes
@@ -719,6 +725,8 @@ Result fit(const json& base, const std::string& origin, const Data& data, const 
     return std::min(lowest, c1);
   };
   for (std::size_t j = 0; j < k; ++j) {
+    // The grid's profile over the evaluations on the final seeds, the earlier parameters'
+    // profile trials included.
     const std::vector<Evaluation> comparable(r.evaluations.begin() + static_cast<std::ptrdiff_t>(same_seeds),
                                              r.evaluations.end());
     Interval iv = profile_interval(comparable, j, r.best[j], r.interval_delta);

@@ -17,10 +17,15 @@ out=${2:-bundle}
 shift $(( $# < 2 ? $# : 2 ))
 only=("$@")
 [ -x "$build/bin/axonguide" ] || { echo "bundle.sh: $build/bin/axonguide not built" >&2; exit 2; }
+# The CUDA engine is a plugin that the command loads (accel/src/cuda_plugin.hpp): built here
+# if it is not yet, and carried as lib/libaxg_cuda.so, where bin/axonguide looks for it.
+cmake --build "$build" --target axg_cuda -j"$(nproc)" >/dev/null ||
+  { echo "bundle.sh: the CUDA plugin (target axg_cuda) could not be built in $build: configured without nvcc?" >&2; exit 2; }
 rm -rf "$out"
 mkdir -p "$out/bin" "$out/tests" "$out/lib" "$out/node_modules/three/build" \
          "$out/node_modules/three/examples/jsm/controls" "$out/validate" "$out/tests/app"
 cp "$build/bin/axonguide" "$out/bin/"
+cp "$build/lib/libaxg_cuda.so" "$out/lib/"
 if [ ${#only[@]} -eq 0 ]; then
   for t in "$build"/tests/*_test; do [ -x "$t" ] && cp "$t" "$out/tests/"; done
 else
@@ -30,7 +35,7 @@ else
   done
 fi
 # Libraries from ldd, except the C runtime and the dynamic loader (the target has its own).
-for f in "$out"/bin/* "$out"/tests/*_test; do
+for f in "$out"/bin/* "$out"/tests/*_test "$out"/lib/libaxg_cuda.so; do
   ldd "$f" | awk '/=> \// {print $3}'
 done | sort -u | while read -r lib; do
   case "$(basename "$lib")" in

@@ -1,8 +1,14 @@
-// Dispatch between the builds, device checks and the device memory estimate.
+// Dispatch between the builds, the CUDA plugin's loader, device checks and the device
+// memory estimate.
+#include <dlfcn.h>
+
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
 #include <vector>
 
 #include "axonguide/accel/engines.hpp"
@@ -11,66 +17,129 @@
 #include "axonguide/model/stencil.hpp"
 #include "axonguide/support/error.hpp"
 #include "backends.hpp"
+#include "cuda_plugin.hpp"
 
 namespace axg::accel {
 
-bool cuda_built() { return AXG_HAVE_CUDA_ENGINE != 0; }
+namespace {
 
-void require_cuda_built() {
-  if (!cuda_built())
-    throw InputError(
-        "--backend cuda: not built: this axonguide was configured without the CUDA accelerator (no nvcc was found); "
-        "rebuild with the CUDA toolkit installed, or use --backend reference");
+namespace fs = std::filesystem;
+
+// Where the plugin is looked for, in order: $AXG_CUDA_ENGINE (a path: nothing else is
+// tried); beside the object this code is linked into, as bin/../lib/libaxg_cuda.so (the
+// build tree's bin/ and tests/, an installed prefix, a bundle) or in its own folder; and
+// the build tree's lib/ (the Python module, staged elsewhere).
+std::vector<fs::path> plugin_candidates() {
+  if (const char* p = std::getenv("AXG_CUDA_ENGINE"); p != nullptr && *p != '\0') return {fs::path(p)};
+  std::vector<fs::path> out;
+  const auto beside = [&out](const fs::path& object) {
+    std::error_code ec;
+    const fs::path self = fs::canonical(object, ec);
+    if (ec) return;
+    for (const fs::path& p : {self.parent_path().parent_path() / "lib" / "libaxg_cuda.so",
+                              self.parent_path() / "libaxg_cuda.so"})
+      if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
+  };
+  // dladdr names a shared object by its path; for the executable it may give argv[0].
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<const void*>(&plugin_candidates), &info) != 0 && info.dli_fname != nullptr &&
+      std::strchr(info.dli_fname, '/') != nullptr)
+    beside(fs::path(info.dli_fname));
+  beside(fs::path("/proc/self/exe"));
+  if (const fs::path built(AXG_CUDA_ENGINE_BUILD_PATH); std::find(out.begin(), out.end(), built) == out.end())
+    out.push_back(built);
+  return out;
 }
 
-void require_cuda_device() {
-  require_cuda_built();
-#if AXG_HAVE_CUDA_ENGINE
-  gpu::require_device();
-#endif
+std::string build_text(const CudaBuild& b) {
+  return fmt::format("axonguide {} (commit {}, {}, {}, flags \"{}\", Scene {} B, Placement {} B)", b.version, b.commit,
+                     b.build_type, b.compiler, b.cxx_flags, b.scene_bytes, b.placement_bytes);
 }
 
-std::string cuda_architectures() { return AXG_CUDA_ARCHITECTURES; }
+bool same_build(const CudaBuild& a, const CudaBuild& b) {
+  return std::strcmp(a.version, b.version) == 0 && std::strcmp(a.commit, b.commit) == 0 &&
+         std::strcmp(a.build_type, b.build_type) == 0 && std::strcmp(a.compiler, b.compiler) == 0 &&
+         std::strcmp(a.cxx_flags, b.cxx_flags) == 0 && a.scene_bytes == b.scene_bytes &&
+         a.placement_bytes == b.placement_bytes;
+}
 
-std::string cuda_arch_refusal(int major, int minor, const std::string& archs) {
-  const int device = major * 10 + minor;
-  bool runs = false;
-  std::vector<std::string> have;
-  std::size_t begin = 0;
-  while (begin <= archs.size()) {
-    const std::size_t end = std::min(archs.find(',', begin), archs.size());
-    std::string a = archs.substr(begin, end - begin);
-    begin = end + 1;
-    if (a.empty()) continue;
-    bool sass = true, ptx = true;
-    if (a.size() > 5 && a.compare(a.size() - 5, 5, "-real") == 0) ptx = false, a.resize(a.size() - 5);
-    else if (a.size() > 8 && a.compare(a.size() - 8, 8, "-virtual") == 0) sass = false, a.resize(a.size() - 8);
-    std::size_t digits = 0;
-    while (digits < a.size() && a[digits] >= '0' && a[digits] <= '9') ++digits;
-    const std::string suffix = a.substr(digits);
-    if (digits < 2 || (suffix != "" && suffix != "a" && suffix != "f")) return {};  // native, all, all-major
-    const int cc = std::stoi(a.substr(0, digits));
-    const int cmaj = cc / 10, cmin = cc % 10;
-    // sm_XYa and compute_XYa: X.Y only; sm_XYf and compute_XYf: the family X.Y to X.9.
-    const bool exact = suffix == "a", family = suffix == "f";
-    if (sass) {
-      runs = runs || (exact ? device == cc : major == cmaj && minor >= cmin);
-      have.push_back(fmt::format("sm_{} ({}.{}{})", a, cmaj, cmin, exact ? " only" : fmt::format(" to {}.9", cmaj)));
+// How to build the plugin, for the messages below.
+std::string how_to_build() {
+  return AXG_CUDA_CONFIGURED ? "build it with `cmake --build build --target axg_cuda` (the README's test command and "
+                               "scripts/bundle.sh build it too)"
+                             : "this build was configured without nvcc (no CUDA toolkit was found); install the CUDA "
+                               "toolkit (/usr/local/cuda/bin/nvcc), then `cmake -S . -B build && cmake --build build "
+                               "--target axg_cuda`";
+}
+
+struct Loaded {
+  const CudaPlugin* api = nullptr;
+  std::string refusal;  // why there is none (InputError, exit 2)
+};
+
+Loaded load_plugin() {
+  const std::vector<fs::path> candidates = plugin_candidates();
+  std::string looked;
+  for (const fs::path& path : candidates) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) {
+      looked += (looked.empty() ? "" : ", ") + path.string();
+      continue;
     }
-    if (ptx) {
-      runs = runs || (exact ? device == cc : family ? major == cmaj && minor >= cmin : device >= cc);
-      have.push_back(fmt::format("PTX compute_{} ({}.{}{}, through the driver's JIT)", a, cmaj, cmin,
-                                 exact ? " only" : family ? fmt::format(" to {}.9", cmaj) : " and newer"));
+    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (handle == nullptr) {
+      const char* why = ::dlerror();
+      return {nullptr, fmt::format("--backend cuda: the CUDA engine {} cannot be loaded ({}); {}", path.string(),
+                                   why ? why : "dlopen failed", how_to_build())};
     }
+    using Entry = const CudaPlugin* (*)();
+    const auto entry = reinterpret_cast<Entry>(::dlsym(handle, "axg_cuda_plugin"));
+    const CudaPlugin* api = entry ? entry() : nullptr;
+    if (api == nullptr)
+      return {nullptr, fmt::format("--backend cuda: {} is not an axonguide CUDA engine (no axg_cuda_plugin); {}",
+                                   path.string(), how_to_build())};
+    if (api->abi != kCudaPluginAbi)
+      return {nullptr, fmt::format("--backend cuda: the CUDA engine {} has plugin interface {}, this axonguide {} ({}); "
+                                   "rebuild it: {}",
+                                   path.string(), api->abi, kCudaPluginAbi, build_text(this_build()), how_to_build())};
+    if (!same_build(api->build, this_build()))
+      return {nullptr, fmt::format("--backend cuda: the CUDA engine {} was built as {}, but this command is {}: they "
+                                   "must be one build; rebuild it: {}",
+                                   path.string(), build_text(api->build), build_text(this_build()), how_to_build())};
+    return {api, {}};  // never closed: its engines live until exit
   }
-  if (runs || have.empty()) return {};
-  std::string cmake_list = archs;
-  std::replace(cmake_list.begin(), cmake_list.end(), ',', ';');
-  return fmt::format(
-      "compute capability {}.{}, which this build cannot run: it has code for {}; rebuild with "
-      "-DCMAKE_CUDA_ARCHITECTURES=\"{}-real;{}\" or use --backend reference",
-      major, minor, fmt::join(have, ", "), device, cmake_list);
+  return {nullptr, fmt::format("--backend cuda: the CUDA engine is not built (no libaxg_cuda.so at {}); {}", looked,
+                               how_to_build())};
 }
+
+// Loaded at most once per process, on the first use of a GPU.
+const Loaded& plugin() {
+  static std::once_flag once;
+  static Loaded loaded;
+  std::call_once(once, [] { loaded = load_plugin(); });
+  return loaded;
+}
+
+// The plugin's table, or InputError (exit 2) saying why there is none.
+const CudaPlugin& gpu_api() {
+  const Loaded& p = plugin();
+  if (p.api == nullptr) throw InputError(p.refusal);
+  return *p.api;
+}
+
+}  // namespace
+
+bool cuda_configured() { return AXG_CUDA_CONFIGURED != 0; }
+
+bool cuda_built() { return plugin().api != nullptr; }
+
+std::string cuda_refusal() { return plugin().refusal; }
+
+void require_cuda_built() { gpu_api(); }
+
+void require_cuda_device() { gpu_api().require_device(); }
+
+std::string cuda_architectures() { return cuda_built() ? gpu_api().architectures : ""; }
 
 std::uint64_t estimate_device_bytes(const Scene& scene) {
   const double n = static_cast<double>(scene.neurons.count);
@@ -97,72 +166,55 @@ std::unique_ptr<Engine> make_emulated_engine(const Scene& scene, const Placement
   return emu::make_engine(scene, placement);
 }
 
-#if AXG_HAVE_CUDA_ENGINE
 std::unique_ptr<Engine> make_cuda_engine(const Scene& scene, const Placement& placement) {
-  gpu::require_device();
+  const CudaPlugin& gpu = gpu_api();
+  gpu.require_device();
   std::uint64_t free_bytes = 0, total_bytes = 0;
-  gpu::device_memory(&free_bytes, &total_bytes);
+  gpu.device_memory(&free_bytes, &total_bytes);
   const std::uint64_t need = estimate_device_bytes(scene);
   if (need > free_bytes)
     throw RunError(fmt::format("--backend cuda: the scene needs an estimated {} of device memory; the GPU has {} free of {}",
                                human_bytes(static_cast<double>(need)), human_bytes(static_cast<double>(free_bytes)),
                                human_bytes(static_cast<double>(total_bytes))));
-  return gpu::make_engine(scene, placement);
+  return gpu.make_engine(scene, placement);
 }
-std::string cuda_device_description() { return gpu::device_description(); }
-#else
-std::unique_ptr<Engine> make_cuda_engine(const Scene&, const Placement&) {
-  require_cuda_built();
-  return nullptr;  // not reached
+
+std::string cuda_device_description() {
+  if (!cuda_built()) return "not built: " + cuda_refusal();
+  return gpu_api().device_description();
 }
-std::string cuda_device_description() { return "not built (no nvcc when axonguide was configured)"; }
-#endif
 
 std::string cuda_unavailable_reason() {
-  if (!cuda_built()) return "the CUDA accelerator was not built (no nvcc at configure time)";
-#if AXG_HAVE_CUDA_ENGINE
+  if (!cuda_built()) return cuda_refusal();
   try {
-    gpu::require_device();
+    gpu_api().require_device();
   } catch (const std::exception& e) {
     return e.what();
   }
-#endif
   return {};
 }
 
 BfsResult bfs_level_sync(const Csr& g, const std::vector<std::uint32_t>& sources, bool on_gpu) {
-#if AXG_HAVE_CUDA_ENGINE
   if (on_gpu) {
-    gpu::require_device();
-    return gpu::bfs_level_sync(g, sources);
+    require_cuda_device();
+    return gpu_api().bfs_level_sync(g, sources);
   }
-#else
-  if (on_gpu) require_cuda_built();
-#endif
   return emu::bfs_level_sync(g, sources);
 }
 
 BfsResult bfs_queue(const Csr& g, const std::vector<std::uint32_t>& sources, bool on_gpu) {
-#if AXG_HAVE_CUDA_ENGINE
   if (on_gpu) {
-    gpu::require_device();
-    return gpu::bfs_queue(g, sources);
+    require_cuda_device();
+    return gpu_api().bfs_queue(g, sources);
   }
-#else
-  if (on_gpu) require_cuda_built();
-#endif
   return emu::bfs_queue(g, sources);
 }
 
 std::vector<std::uint32_t> components(const Csr& g, bool on_gpu) {
-#if AXG_HAVE_CUDA_ENGINE
   if (on_gpu) {
-    gpu::require_device();
-    return gpu::components(g);
+    require_cuda_device();
+    return gpu_api().components(g);
   }
-#else
-  if (on_gpu) require_cuda_built();
-#endif
   return emu::components(g);
 }
 

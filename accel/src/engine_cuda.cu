@@ -1,5 +1,6 @@
 // The accelerator's pipeline on the GPU (Thrust's CUDA system: one thread per entity,
-// CUB radix sorts), plus device discovery and error reporting.
+// CUB radix sorts), plus device discovery and error reporting: the CUDA plugin
+// (libaxg_cuda.so; its table in cuda_plugin.hpp).
 #define AXG_ACCEL_NS gpu
 #include <cuda_runtime.h>
 #include <dlfcn.h>
@@ -11,6 +12,7 @@
 #include "axonguide/accel/engines.hpp"
 #include "axonguide/support/error.hpp"
 #include "backends.hpp"
+#include "cuda_plugin.hpp"
 #include "pipeline.inl"
 
 namespace axg::accel::gpu {
@@ -92,3 +94,18 @@ void device_memory(std::uint64_t* free_bytes, std::uint64_t* total_bytes) {
 }
 
 }  // namespace axg::accel::gpu
+
+extern "C" __attribute__((visibility("default"))) const axg::accel::CudaPlugin* axg_cuda_plugin() {
+  namespace gpu = axg::accel::gpu;
+  static const axg::accel::CudaPlugin table{axg::accel::kCudaPluginAbi,
+                                            axg::accel::this_build(),
+                                            AXG_CUDA_ARCHITECTURES,
+                                            gpu::require_device,
+                                            gpu::device_description,
+                                            gpu::device_memory,
+                                            gpu::make_engine,
+                                            gpu::bfs_level_sync,
+                                            gpu::bfs_queue,
+                                            gpu::components};
+  return &table;
+}

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "axonguide/accel/engines.hpp"
 #include "support.hpp"
 
 namespace axg {
@@ -235,7 +236,7 @@ TEST(cli, PermutedSourcesAreTheSameScene) {
 TEST(cli, CudaBackendSaysWhyItCannotRun) {
   test::TempDir tmp;
   const Result r = run(fmt::format("run --backend cuda --out {}/o", tmp.path().string()), tmp);
-  if (!AXG_HAVE_CUDA_ENGINE) {
+  if (!accel::cuda_built()) {
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.err.find("not built"), std::string::npos) << r.err;
   } else if (r.code != 0) {

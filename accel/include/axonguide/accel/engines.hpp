@@ -13,17 +13,27 @@
 
 namespace axg::accel {
 
-// True when this build contains the CUDA engine.
+// The CUDA engine is a plugin, libaxg_cuda.so (accel/src/cuda_plugin.hpp), built by
+// `cmake --build build --target axg_cuda` when nvcc was found at configure time, and
+// loaded on the first use of a GPU.
+// True when nvcc was found when this build was configured (the plugin's target exists).
+bool cuda_configured();
+// True when the CUDA plugin was found, loads, and is this build's (same commit, build
+// type, compiler and flags).
 bool cuda_built();
-// Throws InputError (exit 2) saying the CUDA engine was not built, when it was not.
+// Why there is no CUDA engine (not built, with how to build it; cannot be loaded; from
+// another build, naming both); empty when cuda_built().
+std::string cuda_refusal();
+// Throws InputError (exit 2) with cuda_refusal() when !cuda_built().
 void require_cuda_built();
-// Throws InputError (exit 2) when the CUDA engine was not built, and RunError (exit 3)
-// when it cannot run here: "no NVIDIA driver found" (libcuda.so.1 absent), a driver older
-// than the runtime, no device, or a GPU whose compute capability the build has no code for.
+// Throws InputError (exit 2) when the CUDA engine is not built or not this build's, and
+// RunError (exit 3) when it cannot run here: "no NVIDIA driver found" (libcuda.so.1
+// absent), a driver older than the runtime, no device, or a GPU whose compute capability
+// the build has no code for (naming both).
 void require_cuda_device();
 
-// CMake's CUDA_ARCHITECTURES of this build, comma-separated ("80-real,90-real,90-virtual");
-// empty when the CUDA engine was not built.
+// CMake's CUDA_ARCHITECTURES of the CUDA plugin, comma-separated ("90-real,90-virtual");
+// empty when there is none.
 std::string cuda_architectures();
 // Empty when code built for `archs` (as above) runs on a GPU of compute capability
 // major.minor; otherwise why not, naming the compute capability. SASS sm_XY runs on X.Y

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/morphology/morphometry.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/validate/report.hpp"

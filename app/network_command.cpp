@@ -8,7 +8,7 @@
 
 #include "axonguide/io/csv.hpp"
 #include "axonguide/io/neurons_csv.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/io/run_folder.hpp"
 #include "axonguide/network/statistics.hpp"
 #include "axonguide/scene/scene.hpp"

@@ -19,7 +19,7 @@
 #include "axonguide/distributed/mpi_comm.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/scene/json_input.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/placement/placement.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/io/run_folder.hpp"

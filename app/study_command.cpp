@@ -25,7 +25,7 @@
 #include "axonguide/study/fit.hpp"
 #include "axonguide/study/morphometry_fit.hpp"
 #include "axonguide/core/pmath.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/io/run_folder.hpp"
 #include "axonguide/study/sweep.hpp"
 #include "axonguide/support/threads.hpp"

@@ -19,7 +19,7 @@
 #include "axonguide/support/resources.hpp"
 #include "axonguide/scene/json_input.hpp"
 #include "axonguide/io/neurons_csv.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/io/run_folder.hpp"
 #include "axonguide/validate/report.hpp"
 #include "assets.hpp"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The variance that antithetic mirror images remove (docs/methods.md §12.3).
+"""The variance that antithetic mirror images remove (docs/validation.md §12.3).
 
 scenes/assay-explant.json at steepness 0.2 % and three concentrations (0.01, 1 and 100 x
 K_d), N seeds: each seed run with the gradient, with its mirror image on the same draws,

@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/engine/arbour_engine.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/io/swc.hpp"
 #include "axonguide/scene/scene.hpp"
 #include "axonguide/support/resources.hpp"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The cost of a 40-point fit of the stochastic SNR model (docs/methods.md §12.3, issue 40).
+"""The cost of a 40-point fit of the stochastic SNR model (docs/validation.md §12.3, issue 40).
 
 The data: the bias at the points of scenes/assay-explant.sweep.json (4 steepnesses x 10
 concentrations, gain 40 and K_d = 1 nM), 10 seeds a point, each point on its own seeds

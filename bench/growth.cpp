@@ -15,7 +15,7 @@
 #include <tbb/info.h>
 
 #include "axonguide/support/error.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/placement/placement.hpp"
 #include "axonguide/support/threads.hpp"
 #include "bench.hpp"

@@ -11,7 +11,7 @@ statistics are `axonguide network`'s, computed here with networkx on the same gr
 neuron, synapses per connection, connection probability, reciprocity, the clustering
 coefficient of the undirected graph, and the mean directed path length over reachable
 pairs; beside them the arbours' size (axon length, axon terminal segments, dendrites per
-neuron). Days 1-5 are the shared data's range (docs/methods.md §12.8); day 14 is a
+neuron). Days 1-5 are the shared data's range (docs/validation.md §12.8); day 14 is a
 prediction. --quick runs 60 neurons to day 3 with 2 seeds (for tests).
 """
 

@@ -11,7 +11,7 @@ of 1.6 h) at 7 concentrations from 0.001 to 100 nM; truth r0 = 0.07 and kext = 0
 are the model's mean over seeds 101-104 (not the fit's seeds), the SE 3 % of each value.
 Each replicate fits with the defaults of axonguide.fit but a 5-point grid and one
 refinement. Prints each replicate and the coverage with its Wilson 95 % interval. See
-docs/methods.md §12.3.
+docs/validation.md §12.3.
 """
 
 import argparse

@@ -20,7 +20,7 @@
 #include <rapidcheck.h>
 
 #include "axonguide/support/error.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/scene/scene.hpp"
 #include "axonguide/support/threads.hpp"

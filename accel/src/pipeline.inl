@@ -34,6 +34,7 @@
 #include "axonguide/core/stencil.hpp"
 #include "axonguide/engine/arbour_engine.hpp"
 #include "axonguide/engine/axon_stages.hpp"
+#include "axonguide/engine/axon_step.hpp"
 #include "axonguide/engine/engine.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/estimate.hpp"

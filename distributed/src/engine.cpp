@@ -1,4 +1,5 @@
 #include "axonguide/distributed/engine.hpp"
+#include "axonguide/engine/state.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/engine/axon_stages.hpp"
+#include "axonguide/engine/axon_step.hpp"
 #include "axonguide/engine/cell_grid.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/distributed/fields.hpp"
@@ -166,34 +168,24 @@ class DecomposedEngine final : public Engine {
 
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     const Traffic before = comm_.traffic();
-    // Under the continuum rule the axons steer after they move (core/guide.hpp, sample_point).
-    const bool after = stages_.steers_after_move();
-    if (field_) {
-      field_->advance(scene_.cues.warmup_steps + step, times);
-      if (!after) {
-        ScopedPhase p(times, step, "steer");
-        stages_.steer(*field_, grow_.slots, grow_.arrays(), step);
-      }
-    }
+    // The pipeline of SPEC §3.2, as every engine runs it (engine/axon_step.hpp); the
+    // signalling model is not decomposed (refused before a decomposed run starts).
+    const AxonStepPlan plan{field_ != nullptr, false, stages_.steers_after_move(), scene_.cues.warmup_steps,
+                            "migrate"};
     GrowthCounts c;
-    {
-      ScopedPhase p(times, step, "grow");
-      c = stages_.grow(grid_.view(), grow_.slots, grow_.arrays(), step);
-    }
-    if (field_ && after) {
-      ScopedPhase p(times, step, "steer");
-      stages_.steer(*field_, grow_.slots, grow_.arrays(), step);
-    }
-    {
-      ScopedPhase p(times, step, "migrate");
-      migrate();
-      std::vector<std::uint64_t> counts{c.connected, c.exited, grow_.size(), field_ ? field_->particles() : 0};
-      comm_.allreduce(counts, Reduce::kSum);
-      stats_.connected += counts[0];
-      stats_.exited += counts[1];
-      stats_.growing = counts[2];
-      stats_.particles = counts[3];
-    }
+    axon_step(
+        step, times, plan, [&](std::uint32_t field_step, PhaseTimes& t) { field_->advance(field_step, t); }, [] {},
+        [&](std::uint32_t s) { stages_.steer(*field_, grow_.slots, grow_.arrays(), s); },
+        [&](std::uint32_t s) { c = stages_.grow(grid_.view(), grow_.slots, grow_.arrays(), s); },
+        [&](std::uint32_t) {
+          migrate();
+          std::vector<std::uint64_t> counts{c.connected, c.exited, grow_.size(), field_ ? field_->particles() : 0};
+          comm_.allreduce(counts, Reduce::kSum);
+          stats_.connected += counts[0];
+          stats_.exited += counts[1];
+          stats_.growing = counts[2];
+          stats_.particles = counts[3];
+        });
     stats_.step = step;
     ++report_.steps_run;
     const Traffic spent = comm_.traffic() - before;

@@ -24,6 +24,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/stencil.hpp"
+#include "axonguide/engine/state.hpp"
 #include "axonguide/model/stencil.hpp"
 #include "axonguide/distributed/fields.hpp"
 #include "axonguide/distributed/on_every_rank.hpp"

@@ -19,6 +19,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/particles.hpp"
+#include "axonguide/engine/state.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/estimate.hpp"
 #include "axonguide/model/particles.hpp"

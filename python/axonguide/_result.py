@@ -241,7 +241,7 @@ class Result:
 
 
 def assay_metrics(result):
-    """The assay metrics of a run (docs/methods.md §12.1), as `axonguide assay` and the sweep
+    """The assay metrics of a run (docs/validation.md §12.1), as `axonguide assay` and the sweep
     records compute them: the scalar metrics by name (bias, guidance_ratio, ... with their
     standard errors), profile (R(θ), 36 sectors at profile_theta_deg), profile_axons, turning
     (counts per 10° bin between turning_edges_deg). The GIL is released while it measures."""

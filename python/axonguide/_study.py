@@ -1,4 +1,4 @@
-"""Sweeps and the fit from Python (docs/methods.md §12, docs/guide.md §2)."""
+"""Sweeps and the fit from Python (docs/validation.md §12, docs/guide.md §2)."""
 
 import io
 import numbers
@@ -29,7 +29,7 @@ def _table(d):
 
 
 class SweepSpec:
-    """A sweep file (docs/methods.md §12.2) from a path, a dict or JSON text, validated as
+    """A sweep file (docs/validation.md §12.2) from a path, a dict or JSON text, validated as
     `axonguide sweep` validates it (InputError). A relative "scene" path is read from the
     sweep file's folder (for a dict or text: `folder`, by default the working directory)."""
 
@@ -112,7 +112,7 @@ class SweepResult:
 
 
 def sweep(spec, out=None, threads=None, backend="reference"):
-    """Runs a sweep (docs/methods.md §12.2): spec is a SweepSpec or anything SweepSpec()
+    """Runs a sweep (docs/validation.md §12.2): spec is a SweepSpec or anything SweepSpec()
     takes. With out, it is `axonguide sweep SPEC --out OUT` (sweep.csv, summary.csv,
     sweep.json, members/: the same bytes; members already recorded and verified there are
     reused); without, the members run in memory and nothing is written. The GIL is released
@@ -127,7 +127,7 @@ def sweep(spec, out=None, threads=None, backend="reference"):
 
 
 class FitResult:
-    """The fit of `axonguide fit` (docs/methods.md §12.3): parameters (names), best and
+    """The fit of `axonguide fit` (docs/validation.md §12.3): parameters (names), best and
     intervals (name -> value; name -> (lo, hi, open_low, open_high), 95 % profile
     likelihood), gain, kd, scale (the scene's where not fitted), chi2, dof, chi2_per_dof,
     runs, seeds, model_se_ratio_max; per residual (a data point's measure: point, measure)
@@ -204,7 +204,7 @@ def _base_text(base):
 def fit(base_scene, data, *, seeds=4, scale=False, gain_min=1.0, gain_max=1000.0, kd_min=None, kd_max=None,
         grid=7, refine=2, threads=None, backend="reference", mirror=True, target_se=1.0 / 3.0, max_seeds=64,
         params=None, corrections=None, bias_metric="", polish=4, antithetic=True):
-    """`axonguide fit DATA --scene BASE` (docs/methods.md §12.3): fits the model's parameters
+    """`axonguide fit DATA --scene BASE` (docs/validation.md §12.3): fits the model's parameters
     (SNR: gain and K_d, with scale=True a scale on the nominal concentrations; signalling:
     r0, kext, a1b; or `params`) to measured directional bias and/or radial outgrowth.
     data: a CSV path (the columns of `axonguide fit`), a dict of columns, or rows. seeds: a count (seeds 1..N, as --seeds) or a list. grid and refine are

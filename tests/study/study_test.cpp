@@ -12,7 +12,7 @@
 #include "axonguide/study/assay.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/study/fit.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/placement/placement.hpp"
 #include "axonguide/study/sweep.hpp"
 #include "support.hpp"

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/support/error.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/validate/golden.hpp"
 #include "support.hpp"
 

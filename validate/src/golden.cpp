@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "axonguide/support/error.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/support/resources.hpp"
 #include "axonguide/support/threads.hpp"
 #include "axonguide/validate/report.hpp"

@@ -13,7 +13,7 @@
 #include "axonguide/accel/engines.hpp"
 #include "axonguide/core/random.hpp"
 #include "axonguide/graph/graph.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/support/resources.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/support/threads.hpp"

@@ -9,6 +9,7 @@
 #include <gsl/gsl_cdf.h>
 
 #include "axonguide/core/steering.hpp"
+#include "axonguide/model/steering.hpp"
 #include "axonguide/validate/validate.hpp"
 
 namespace axg::validate {
@@ -17,8 +18,9 @@ core::SteerParams default_snr_params(core::NoiseForm noise) {
   core::SteerParams p{};
   p.model = core::GuidanceModel::kSnr;
   p.noise = noise;
-  p.cos_turn = std::cos(0.10471975511965977);
-  p.sin_turn = std::sin(0.10471975511965977);
+  const double turn = SteeringKeys{}.turn_angle;  // the scene's default (model/steering.hpp)
+  p.cos_turn = std::cos(turn);
+  p.sin_turn = std::sin(turn);
   p.gain = 250;
   return p;
 }

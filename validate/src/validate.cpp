@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "axonguide/support/error.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::validate {

@@ -236,43 +236,37 @@ class AccelEngine final : public Engine {
     }
   }
 
-  void steer(std::uint32_t step, PhaseTimes& times) {
-    ScopedPhase p(times, step, "steer");
+  void steer(std::uint32_t step) {
     launch(active_.size(), Steer{raw(active_), raw(ids_), raw(tip_), raw(heading_), step_lengths(),
                                  sums_.empty() ? nullptr : raw(sums_), sums_per_axon_, fields(), guide_,
                                  signal_arrays(), clock_.at(step)});
     if (scene_.signalling()) check_signalling(step);
   }
 
+  // The pipeline of SPEC §3.2, as every engine runs it (engine/axon_step.hpp).
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
     if (arbours_) return step_arbours(step, times);
-    if (scene_.uses_cues()) {
-      advance_field(scene_.cues.warmup_steps + step, times);
-      if (scene_.signalling()) {
-        ScopedPhase p(times, step, "signalling.somas");
-        soma_signals(false);
-      }
-      if (!guide_.after_move) steer(step, times);
-    }
-    {
-      ScopedPhase p(times, step, "grow");
-      launch(active_.size(), Grow{raw(active_), raw(ids_), growth_, wander_, step_lengths(), scene_.seed, somas_view(),
-                                  step, raw(tip_), raw(heading_), raw(length_), raw(status_), raw(steps_), raw(target_)});
-    }
-    // Under the continuum rule the axons steer after they move (core/guide.hpp, sample_point).
-    if (scene_.uses_cues() && guide_.after_move) steer(step, times);
-    {
-      ScopedPhase p(times, step, "compact");
-      stats_.connected += static_cast<std::uint64_t>(thrust::count_if(
-          thrust::device, active_.begin(), active_.end(), StatusIs{raw(status_), core::AxonStatus::kConnected}));
-      stats_.exited += static_cast<std::uint64_t>(thrust::count_if(
-          thrust::device, active_.begin(), active_.end(), StatusIs{raw(status_), core::AxonStatus::kExited}));
-      const auto end = thrust::copy_if(thrust::device, active_.begin(), active_.end(), active_next_.begin(),
-                                       StatusIs{raw(status_), core::AxonStatus::kGrowing});
-      active_next_.resize(static_cast<std::size_t>(end - active_next_.begin()));
-      active_.swap(active_next_);
-      active_next_.resize(active_.capacity());
-    }
+    const AxonStepPlan plan{scene_.uses_cues(), scene_.signalling(), guide_.after_move, scene_.cues.warmup_steps,
+                            "compact"};
+    axon_step(
+        step, times, plan, [&](std::uint32_t field_step, PhaseTimes& t) { advance_field(field_step, t); },
+        [&] { soma_signals(false); }, [&](std::uint32_t s) { this->steer(s); },
+        [&](std::uint32_t s) {
+          launch(active_.size(), Grow{raw(active_), raw(ids_), growth_, wander_, step_lengths(), scene_.seed,
+                                      somas_view(), s, raw(tip_), raw(heading_), raw(length_), raw(status_),
+                                      raw(steps_), raw(target_)});
+        },
+        [&](std::uint32_t) {
+          stats_.connected += static_cast<std::uint64_t>(thrust::count_if(
+              thrust::device, active_.begin(), active_.end(), StatusIs{raw(status_), core::AxonStatus::kConnected}));
+          stats_.exited += static_cast<std::uint64_t>(thrust::count_if(
+              thrust::device, active_.begin(), active_.end(), StatusIs{raw(status_), core::AxonStatus::kExited}));
+          const auto end = thrust::copy_if(thrust::device, active_.begin(), active_.end(), active_next_.begin(),
+                                           StatusIs{raw(status_), core::AxonStatus::kGrowing});
+          active_next_.resize(static_cast<std::size_t>(end - active_next_.begin()));
+          active_.swap(active_next_);
+          active_next_.resize(active_.capacity());
+        });
     stats_.step = step;
     stats_.growing = active_.size();
     stats_.particles = pos_.size();

@@ -8,6 +8,7 @@
 
 #include "axonguide/engine/arbour_engine.hpp"
 #include "axonguide/engine/axon_stages.hpp"
+#include "axonguide/engine/axon_step.hpp"
 #include "axonguide/engine/cell_grid.hpp"
 #include "axonguide/engine/engine.hpp"
 #include "axonguide/fields/fields.hpp"
@@ -156,36 +157,23 @@ class ReferenceEngine final : public Engine {
     if (field_) field_->load(in);
   }
 
-  // The pipeline of SPEC §3.2: (1) cue fields advance, (2) sense and steer, (3) move,
-  // (4) contact and bounds; then the growing axons are compacted. Under the continuum rule
-  // (2) follows (3) and (4) (core/guide.hpp, sample_point).
-  void steer(std::uint32_t step, PhaseTimes& times) {
-    ScopedPhase p(times, step, "steer");
-    const SignallingFailure failed = stages_.steer(*field_, active_, arrays(), step);
-    if (failed.neuron != core::kNoNeuron) throw_signalling_failure(scene_, failed, step);
-  }
-
+  // The pipeline of SPEC §3.2, as every engine runs it (engine/axon_step.hpp).
   StepStats step(std::uint32_t step, PhaseTimes& times) override {
-    const bool after = stages_.steers_after_move();
-    if (field_) {
-      field_->advance(scene_.cues.warmup_steps + step, times);
-      if (stages_.signalling()) {
-        ScopedPhase p(times, step, "signalling.somas");
-        stages_.soma_signals(*field_, soma_, receptors_.data(), inhibition_.data(), false);
-      }
-      if (!after) steer(step, times);
-    }
-    {
-      ScopedPhase p(times, step, "grow");
-      const GrowthCounts c = stages_.grow(somas_.view(), slots(), arrays(), step);
-      stats_.connected += c.connected;
-      stats_.exited += c.exited;
-    }
-    if (field_ && after) steer(step, times);
-    {
-      ScopedPhase p(times, step, "compact");
-      compact_active();
-    }
+    const AxonStepPlan plan{field_ != nullptr, stages_.signalling(), stages_.steers_after_move(),
+                            scene_.cues.warmup_steps, "compact"};
+    axon_step(
+        step, times, plan, [&](std::uint32_t field_step, PhaseTimes& t) { field_->advance(field_step, t); },
+        [&] { stages_.soma_signals(*field_, soma_, receptors_.data(), inhibition_.data(), false); },
+        [&](std::uint32_t s) {
+          const SignallingFailure failed = stages_.steer(*field_, active_, arrays(), s);
+          if (failed.neuron != core::kNoNeuron) throw_signalling_failure(scene_, failed, s);
+        },
+        [&](std::uint32_t s) {
+          const GrowthCounts c = stages_.grow(somas_.view(), slots(), arrays(), s);
+          stats_.connected += c.connected;
+          stats_.exited += c.exited;
+        },
+        [&](std::uint32_t) { compact_active(); });
     stats_.step = step;
     stats_.growing = growing_;
     stats_.particles = field_ ? field_->particles() : 0;

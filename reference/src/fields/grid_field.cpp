@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/stencil.hpp"
+#include "axonguide/engine/state.hpp"
 #include "axonguide/model/cues.hpp"
 #include "axonguide/model/sensing.hpp"
 #include "axonguide/model/stencil.hpp"

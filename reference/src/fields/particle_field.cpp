@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/core/particles.hpp"
+#include "axonguide/engine/state.hpp"
 #include "axonguide/fields/fields.hpp"
 #include "axonguide/fields/particle_stages.hpp"
 #include "axonguide/support/compact.hpp"

@@ -5,7 +5,7 @@
 
 #include "axonguide/engine/checkpoint.hpp"
 #include "axonguide/support/error.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/io/run_folder.hpp"
 

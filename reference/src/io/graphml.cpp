@@ -13,7 +13,7 @@
 #include <streambuf>
 
 #include "axonguide/io/canonical_nan.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/scene/scene.hpp"
 

@@ -32,7 +32,7 @@
 #include "axonguide/morphology/sections.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/support/fault.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/io/swc.hpp"
 
 // Sweeps write their members' SONATA files on several threads at once: the HDF5 library must

@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/io/canonical_nan.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/scene/scene.hpp"
 
 namespace axg {

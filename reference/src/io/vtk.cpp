@@ -14,7 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "axonguide/io/canonical_nan.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/io/vtk.hpp"
 

@@ -12,7 +12,7 @@
 #include "axonguide/io/canonical_nan.hpp"
 #include "axonguide/support/error.hpp"
 #include "axonguide/support/fault.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/io/run_folder.hpp"
 #include "axonguide/engine/run.hpp"
 #include "axonguide/io/sonata.hpp"

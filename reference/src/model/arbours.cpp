@@ -19,6 +19,28 @@ ArbourKeys::ArbourKeys() {
   dendrites.diameter = 2.0;
 }
 
+const std::vector<NeuriteKey>& neurite_key_table() {
+  static const std::vector<NeuriteKey> table{
+      {"B", &NeuriteKeys::b, nullptr, non_negative(), "1", true},
+      {"E", &NeuriteKeys::e, nullptr, non_negative(), "1", true},
+      {"S", &NeuriteKeys::s, nullptr, {}, "1", true},
+      {"tau", nullptr, &NeuriteKeys::tau, positive(), "time units; null: infinite", true},
+      {"period", nullptr, &NeuriteKeys::period, positive(), "time units; null: steps x dt", false},
+      {"v0", &NeuriteKeys::v0, nullptr, non_negative(), "length units per time unit", true},
+      {"F", &NeuriteKeys::f, nullptr, non_negative(), "1", true},
+      {"rate_cv", &NeuriteKeys::rate_cv, nullptr, non_negative(), "1", true},
+      {"angle", &NeuriteKeys::angle, nullptr, {0.0, core::kPi, true, true}, "rad", false},
+      {"angle_sd", &NeuriteKeys::angle_sd, nullptr, non_negative(), "rad", false},
+      {"persistence_length", nullptr, &NeuriteKeys::persistence_length, positive(), "length units; null: straight",
+       false},
+      {"diameter", &NeuriteKeys::diameter, nullptr, positive(), "um", false},
+      {"taper", &NeuriteKeys::taper, nullptr, {0.0, 1.0, true, false}, "1", false},
+      {"stems", nullptr, nullptr, {}, "P(k stems at birth), k = 0, 1, ...", false},
+      {"stem_rate", &NeuriteKeys::stem_rate, nullptr, non_negative(), "per time unit", true},
+      {"lateral_rate", &NeuriteKeys::lateral_rate, nullptr, non_negative(), "per length unit per time unit", false}};
+  return table;
+}
+
 namespace {
 
 constexpr std::size_t kMaxStemCount = 64;
@@ -44,52 +66,29 @@ void read_stems(ObjectReader& r, std::vector<double>& out) {
 
 void read_neurite(const json& j, const std::string& path, NeuriteKeys& n) {
   ObjectReader r(j, path);
-  r.number("B", n.b, non_negative());
-  r.number("E", n.e, non_negative());
-  r.number("S", n.s, {});
-  if (const json* t = r.take("tau")) {
-    if (!t->is_null()) n.tau = ObjectReader::read_number(*t, r.path("tau"), positive());
-    else n.tau.reset();
+  for (const NeuriteKey& k : neurite_key_table()) {
+    if (k.number) {
+      r.number(k.name, n.*k.number, k.range);
+    } else if (k.optional) {
+      if (const json* t = r.take(k.name)) {
+        if (!t->is_null()) n.*k.optional = ObjectReader::read_number(*t, r.path(k.name), k.range);
+        else (n.*k.optional).reset();
+      }
+    } else {
+      read_stems(r, n.stems);
+    }
   }
-  if (const json* t = r.take("period")) {
-    if (!t->is_null()) n.period = ObjectReader::read_number(*t, r.path("period"), positive());
-    else n.period.reset();
-  }
-  r.number("v0", n.v0, non_negative());
-  r.number("F", n.f, non_negative());
-  r.number("rate_cv", n.rate_cv, non_negative());
-  r.number("angle", n.angle, {0.0, core::kPi, true, true});
-  r.number("angle_sd", n.angle_sd, non_negative());
-  if (const json* t = r.take("persistence_length")) {
-    if (!t->is_null()) n.persistence_length = ObjectReader::read_number(*t, r.path("persistence_length"), positive());
-    else n.persistence_length.reset();
-  }
-  r.number("diameter", n.diameter, positive());
-  r.number("taper", n.taper, {0.0, 1.0, true, false});
-  read_stems(r, n.stems);
-  r.number("stem_rate", n.stem_rate, non_negative());
-  r.number("lateral_rate", n.lateral_rate, non_negative());
   r.finish();
 }
 
 json write_neurite(const NeuriteKeys& n) {
-  auto opt = [](const std::optional<double>& x) { return x ? json(*x) : json(nullptr); };
-  return {{"B", n.b},
-          {"E", n.e},
-          {"S", n.s},
-          {"tau", opt(n.tau)},
-          {"period", opt(n.period)},
-          {"v0", n.v0},
-          {"F", n.f},
-          {"rate_cv", n.rate_cv},
-          {"angle", n.angle},
-          {"angle_sd", n.angle_sd},
-          {"persistence_length", opt(n.persistence_length)},
-          {"diameter", n.diameter},
-          {"taper", n.taper},
-          {"stems", n.stems},
-          {"stem_rate", n.stem_rate},
-          {"lateral_rate", n.lateral_rate}};
+  json j = json::object();
+  for (const NeuriteKey& k : neurite_key_table()) {
+    if (k.number) j[k.name] = n.*k.number;
+    else if (k.optional) j[k.name] = n.*k.optional ? json(*(n.*k.optional)) : json(nullptr);
+    else j[k.name] = n.stems;
+  }
+  return j;
 }
 
 NeuriteParams neurite_params(const NeuriteKeys& k, const Scene& s, bool planar) {

@@ -15,7 +15,7 @@
 #include "axonguide/core/random.hpp"
 #include "axonguide/core/sampler.hpp"
 #include "axonguide/engine/run.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/morphology/morphometry.hpp"
 #include "axonguide/scene/json_input.hpp"
 #include "axonguide/support/error.hpp"
@@ -50,15 +50,19 @@ NeuriteKeys& neurite_of(Scene& s, const std::string& name) {
   return name.rfind("axon.", 0) == 0 ? s.arbours->axon : s.arbours->dendrites;
 }
 
-double* field_of(NeuriteKeys& n, const std::string& key) {
-  if (key == "B") return &n.b;
-  if (key == "E") return &n.e;
-  if (key == "S") return &n.s;
-  if (key == "v0") return &n.v0;
-  if (key == "F") return &n.f;
-  if (key == "rate_cv") return &n.rate_cv;
-  if (key == "stem_rate") return &n.stem_rate;
+// The fittable key `key` of the neurite key table (model/arbours.hpp), or nullptr.
+const NeuriteKey* fittable_key(const std::string& key) {
+  for (const NeuriteKey& k : neurite_key_table())
+    if (k.fittable && key == k.name) return &k;
   return nullptr;
+}
+
+// "B, E, S, tau, ...": the fittable keys, in the table's order.
+std::string fittable_list() {
+  std::string out;
+  for (const NeuriteKey& k : neurite_key_table())
+    if (k.fittable) out += (out.empty() ? "" : ", ") + std::string(k.name);
+  return out;
 }
 
 std::string key_of(const std::string& name) { return name.substr(name.find('.') + 1); }
@@ -69,7 +73,8 @@ const std::vector<std::string>& parameter_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> v;
     for (const char* n : {"axon.", "dendrites."})
-      for (const char* k : {"B", "E", "S", "tau", "v0", "F", "rate_cv", "stem_rate"}) v.push_back(std::string(n) + k);
+      for (const NeuriteKey& k : neurite_key_table())
+        if (k.fittable) v.push_back(std::string(n) + k.name);
     return v;
   }();
   return names;
@@ -78,25 +83,27 @@ const std::vector<std::string>& parameter_names() {
 double get_parameter(const Scene& s, const std::string& name) {
   Scene& m = const_cast<Scene&>(s);
   NeuriteKeys& n = neurite_of(m, name);
-  if (key_of(name) == "tau") {
-    if (!n.tau) throw InputError(fmt::format("fit: --param {}: the scene's tau is null (infinite); give it a finite "
-                                             "starting value to fit it",
-                                             name));
-    return *n.tau;
+  const NeuriteKey* k = fittable_key(key_of(name));
+  if (k == nullptr)
+    throw InputError(fmt::format("fit: --param {}: not a fittable arbour parameter (one of axon.X or dendrites.X, X in "
+                                 "{})",
+                                 name, fittable_list()));
+  if (k->optional) {
+    if (!(n.*k->optional))
+      throw InputError(fmt::format("fit: --param {}: the scene's {} is null (infinite); give it a finite starting "
+                                   "value to fit it",
+                                   name, k->name));
+    return *(n.*k->optional);
   }
-  if (double* f = field_of(n, key_of(name))) return *f;
-  throw InputError(fmt::format("fit: --param {}: not a fittable arbour parameter (one of axon.X or dendrites.X, X in B, "
-                               "E, S, tau, v0, F, rate_cv, stem_rate)",
-                               name));
+  return n.*k->number;
 }
 
 void set_parameter(Scene& s, const std::string& name, double value) {
   NeuriteKeys& n = neurite_of(s, name);
-  if (key_of(name) == "tau") {
-    n.tau = value;
-    return;
-  }
-  if (double* f = field_of(n, key_of(name))) *f = value;
+  const NeuriteKey* k = fittable_key(key_of(name));
+  if (k == nullptr) return;
+  if (k->optional) n.*k->optional = value;
+  else n.*k->number = value;
 }
 
 bool is_morphometric_data(const std::string& path) {

@@ -23,7 +23,7 @@
 #include "axonguide/support/error.hpp"
 #include "axonguide/support/fault.hpp"
 #include "axonguide/scene/json_input.hpp"
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 #include "axonguide/version.hpp"
 
 namespace axg::sweep {

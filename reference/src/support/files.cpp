@@ -1,4 +1,4 @@
-#include "axonguide/io/output.hpp"
+#include "axonguide/support/files.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>

@@ -8,9 +8,11 @@
 
 #include "axonguide/core/cues.hpp"
 #include "axonguide/scene/scene.hpp"
-#include "axonguide/engine/state.hpp"
+#include "axonguide/support/phase_times.hpp"
 
 namespace axg {
+
+struct EngineState;  // engine/state.hpp: what a checkpoint holds
 
 class CueField {
  public:

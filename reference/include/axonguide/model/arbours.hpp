@@ -16,6 +16,8 @@
 #include "axonguide/core/arbour.hpp"
 #include "axonguide/core/branching.hpp"
 #include "axonguide/core/hd.hpp"
+#include "axonguide/morphology/arbour_rules.hpp"
+#include "axonguide/scene/reader.hpp"
 
 namespace axg {
 
@@ -47,6 +49,20 @@ struct NeuriteKeys {
   double lateral_rate = 0.0;
 };
 
+// The key table of a neurite section (arbours.axon, arbours.dendrites): each key's name, its
+// member (a number, or a number that may be null; neither: the stem distribution, read by
+// its own rule), its range, its unit, and whether `fit` may fit it. The scene's reader and
+// writer and `fit` (study/morphometry_fit.cpp) all take the keys from here.
+struct NeuriteKey {
+  const char* name;
+  double NeuriteKeys::*number;
+  std::optional<double> NeuriteKeys::*optional;
+  Range range;
+  const char* unit;
+  bool fittable;
+};
+const std::vector<NeuriteKey>& neurite_key_table();
+
 struct ArbourKeys {
   double sample_length = 0.0;    // length units: a cone makes a point each time its path grows this much (0: every step)
   double slab = 0.0;             // a culture's growth layer: each stem's height uniform in [0, slab] above the plane
@@ -62,37 +78,15 @@ nlohmann::json write_arbour_keys(const ArbourKeys& keys);
 // Checks against the rest of the scene (the region, the guidance, the steps).
 void check_arbours(const Scene& s);
 
-// What one neurite type's growth cones follow in a step (trivially copyable: the
-// accelerator's kernels take it as it is; morphology/arbour_step.hpp applies it).
-struct ConeRules {
-  core::BranchingParams branching;
-  core::ElongationParams elongation;
-  core::ConeGeometry geometry;
-  double stem_rate = 0.0;
-  double lateral_rate = 0.0;  // per length unit per time unit
-};
-struct ArbourRules {
-  ConeRules axon, dendrites;
-  bool planar = false;
-  double slab = 0.0;
-  double sample_length = 0.0;
-  bool stop_at_soma = true;
-  AXG_HD const ConeRules& of(std::uint8_t type) const { return type == 2 ? axon : dendrites; }  // SWC type 2: axon
-};
-
 // The rules plus what only the host reads: the stem counts at birth and the diameters.
 struct NeuriteParams : ConeRules {
   std::vector<double> stems_cdf;  // cumulative P(k stems at birth)
   double diameter = 1.0, taper = 1.0;
 };
 
-struct ArbourParams {
+struct ArbourParams : ArbourSettings {
   NeuriteParams axon, dendrites;
-  bool planar = false;
-  double slab = 0.0;
-  double sample_length = 0.0;
-  bool stop_at_soma = true;
-  ArbourRules rules() const { return {axon, dendrites, planar, slab, sample_length, stop_at_soma}; }
+  ArbourRules rules() const { return {{*this}, axon, dendrites}; }
 };
 
 ArbourParams arbour_params(const Scene& s);

@@ -25,8 +25,8 @@
 #include "axonguide/core/hd.hpp"
 #include "axonguide/core/pmath.hpp"
 #include "axonguide/core/random.hpp"
-#include "axonguide/model/arbours.hpp"
 #include "axonguide/morphology/arbour.hpp"
+#include "axonguide/morphology/arbour_rules.hpp"
 
 namespace axg::morphology {
 

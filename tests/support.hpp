@@ -223,4 +223,16 @@ class FileSizeLimit {
   void (*old_handler_)(int) = SIG_DFL;
 };
 
+// A shell command line's exit code (128 + the signal when one ended it), stdout and stderr,
+// captured through files in `dir`.
+struct ShellResult {
+  int code;
+  std::string out, err;
+};
+inline ShellResult shell_capture(const std::string& cmd, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const int status = std::system(fmt::format("{} >{} 2>{}", cmd, out.string(), err.string()).c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), read_file(out), read_file(err)};
+}
+
 }  // namespace axg::test

@@ -2,7 +2,6 @@
 // build, or with a file that is none, every GPU command exits 2 before any work, saying
 // what it found and how to build the right one; never a silent mismatch.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -20,18 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = test::ShellResult;
 
 // `axonguide ARGS` with $AXG_CUDA_ENGINE set to ENGINE (the only place then looked at).
 Result with_engine(const std::string& engine, const std::string& args, const test::TempDir& tmp) {
-  const auto out = tmp.path() / "stdout.txt", err = tmp.path() / "stderr.txt";
-  const std::string cmd =
-      fmt::format("AXG_CUDA_ENGINE='{}' {} {} >{} 2>{}", engine, test::binary(), args, out.string(), err.string());
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), test::read_file(out), test::read_file(err)};
+  return test::shell_capture(fmt::format("AXG_CUDA_ENGINE='{}' {} {}", engine, test::binary(), args), tmp.path());
 }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }

@@ -20,17 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = test::ShellResult;
 
 // Runs a shell command line; stdout and stderr captured through files.
-Result shell(const std::string& cmd, const test::TempDir& tmp) {
-  const auto out = tmp.path() / "stdout.txt", err = tmp.path() / "stderr.txt";
-  const int status = std::system(fmt::format("{} >{} 2>{}", cmd, out.string(), err.string()).c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), test::read_file(out), test::read_file(err)};
-}
+Result shell(const std::string& cmd, const test::TempDir& tmp) { return test::shell_capture(cmd, tmp.path()); }
 Result axonguide(const std::string& args, const test::TempDir& tmp) { return shell(test::binary() + " " + args, tmp); }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
